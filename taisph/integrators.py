@@ -1,0 +1,155 @@
+"""Time integrators: the seed's ``euler``, ``eulermid`` (alias ``eulermom``) and ``pc``.
+
+Each step of every integrator evaluates the rates (accelerations, d rho/dt, ...) once.
+The step is split in two places so that it fuses into the solver's two passes:
+
+``predict``   runs while particles are gathered into cell order, before the rates;
+``update``    runs right after the rates of a particle are summed.
+
+Integrated quantities: position (from velocity), velocity (from ``rates.acc``) and
+every scalar a term declares in ``integrates`` (density from ``d_density``, ...).
+Wall particles are never integrated by these formulas: they move rigidly with their
+own prescribed velocity (zero for fixed walls).
+"""
+
+
+import taichi as ti
+
+
+@ti.data_oriented
+class Euler:
+    """Forward Euler (seed ``euler``), first order:
+
+        x^{n+1} = x^n + dt v^n,   v^{n+1} = v^n + dt a^n,   q^{n+1} = q^n + dt (dq/dt)^n.
+    """
+
+    name = "euler"
+    order = 1
+
+    def __init__(self, integrated):
+        self.integrated = tuple(integrated)  # ((quantity, rate), ...)
+
+    def quantities(self):
+        return (), ()
+
+    def bind(self, layout):
+        self.q = layout.q
+        # (row of the quantity, index of its rate in rates.d)
+        self.rows = tuple((getattr(layout.q, qn), k) for k, (qn, _) in enumerate(self.integrated))
+        return self
+
+    @ti.func
+    def predicted_position(self, s: ti.template(), i, dt):
+        return s.Cv[self.q.position, i]
+
+    @ti.func
+    def predict(self, s: ti.template(), i, slot, dt):
+        pass
+
+    @ti.func
+    def advance_wall(self, s: ti.template(), i, dt):
+        """Walls move rigidly with their prescribed velocity."""
+        s.Cv[self.q.position, i] = s.Sv[self.q.position, i] + dt * s.Sv[self.q.velocity, i]
+
+    @ti.func
+    def update(self, s: ti.template(), i, rates: ti.template(), dt):
+        q = ti.static(self.q)
+        v = s.Sv[q.velocity, i]
+        s.Cv[q.position, i] = s.Sv[q.position, i] + dt * v
+        s.Cv[q.velocity, i] = v + dt * rates.acc
+        for k in ti.static(self.rows):
+            s.Cs[k[0], i] = s.Ss[k[0], i] + dt * rates.d[k[1]]
+
+
+@ti.data_oriented
+class EulerMid(Euler):
+    """Semi-implicit (symplectic) Euler, the seed's ``eulermid``/``eulermom``:
+    positions are advanced with the already updated velocity,
+
+        v^{n+1} = v^n + dt a^n,   x^{n+1} = x^n + dt v^{n+1},   q^{n+1} = q^n + dt (dq/dt)^n.
+    """
+
+    name = "eulermid"
+
+    @ti.func
+    def update(self, s: ti.template(), i, rates: ti.template(), dt):
+        q = ti.static(self.q)
+        v = s.Sv[q.velocity, i] + dt * rates.acc
+        s.Cv[q.position, i] = s.Sv[q.position, i] + dt * v
+        s.Cv[q.velocity, i] = v
+        for k in ti.static(self.rows):
+            s.Cs[k[0], i] = s.Ss[k[0], i] + dt * rates.d[k[1]]
+
+
+@ti.data_oriented
+class PredictorCorrector(Euler):
+    """Predictor-corrector after Price (2004, PhD thesis, sec. 2.5.1), the seed's ``pc``.
+
+    Predictor (using the rates of the previous step, stored per particle):
+
+        x^{n+1} = x^n + dt v^n + dt^2/2 a^n,   v* = v^n + dt a^n,   q* = q^n + dt (dq/dt)^n
+
+    then the rates a^{n+1}, (dq/dt)^{n+1} are evaluated at (x^{n+1}, v*, q*) and the
+    corrector gives
+
+        v^{n+1} = v* + dt/2 (a^{n+1} - a^n),   q^{n+1} = q* + dt/2 ((dq/dt)^{n+1} - (dq/dt)^n).
+
+    Second order; one rate evaluation per step (for positions it is velocity Verlet).
+    The predictor runs for wall particles too: their stored rates are always zero,
+    so it moves them rigidly with their own velocity.
+    The rates are bootstrapped by a zero-length step when the simulation starts.
+    """
+
+    name = "pc"
+    order = 2
+
+    def quantities(self):
+        return ("acc_prev",), tuple(rate + "_prev" for _, rate in self.integrated)
+
+    def bind(self, layout):
+        super().bind(layout)
+        self.prev_rows = tuple(getattr(layout.q, rate + "_prev") for _, rate in self.integrated)
+        return self
+
+    @ti.func
+    def predicted_position(self, s: ti.template(), i, dt):
+        q = ti.static(self.q)
+        return s.Cv[q.position, i] + dt * s.Cv[q.velocity, i] + (0.5 * dt * dt) * s.Cv[q.acc_prev, i]
+
+    @ti.func
+    def predict(self, s: ti.template(), i, slot, dt):
+        q = ti.static(self.q)
+        s.Sv[q.position, slot] = self.predicted_position(s, i, dt)
+        s.Sv[q.velocity, slot] = s.Cv[q.velocity, i] + dt * s.Cv[q.acc_prev, i]
+        for k in ti.static(range(len(self.rows))):
+            s.Ss[self.rows[k][0], slot] = s.Cs[self.rows[k][0], i] + dt * s.Cs[self.prev_rows[k], i]
+
+    @ti.func
+    def advance_wall(self, s: ti.template(), i, dt):
+        pass  # the predictor already moved it (wall rates stay zero)
+
+    @ti.func
+    def update(self, s: ti.template(), i, rates: ti.template(), dt):
+        q = ti.static(self.q)
+        half = 0.5 * dt
+        s.Cv[q.position, i] = s.Sv[q.position, i]
+        s.Cv[q.velocity, i] = s.Sv[q.velocity, i] + half * (rates.acc - s.Sv[q.acc_prev, i])
+        s.Cv[q.acc_prev, i] = rates.acc
+        for k in ti.static(range(len(self.rows))):
+            row = self.rows[k][0]
+            new_rate = rates.d[self.rows[k][1]]
+            s.Cs[row, i] = s.Ss[row, i] + half * (new_rate - s.Ss[self.prev_rows[k], i])
+            s.Cs[self.prev_rows[k], i] = new_rate
+
+
+INTEGRATORS = {"euler": Euler, "eulermid": EulerMid, "eulermom": EulerMid, "pc": PredictorCorrector}
+
+
+def make(name: str, integrated):
+    try:
+        cls = INTEGRATORS[name]
+    except KeyError:
+        raise ValueError(
+            f"unknown integrator {name!r}; choose one of euler, eulermid (alias eulermom), pc"
+        ) from None
+    return cls(integrated)

@@ -1,0 +1,63 @@
+"""Which per-particle quantities a simulation stores, and where.
+
+Particle state is structure-of-arrays: every quantity is one contiguous array over
+particles. Quantities of one type are stacked as the rows of one Taichi ndarray,
+``vectors[k, n]``, ``scalars[k, n]``, ``integers[k, n]``, so that kernels have a
+fixed signature whatever effects a scene enables: the row ``k`` of a quantity is a
+compile-time constant, and a disabled effect's quantity simply has no row (no memory).
+
+Base quantities (always present)::
+
+    vectors:  position, velocity
+    scalars:  density, pressure, mass
+    integers: id (persistent: data is reordered by cell every step), material, kind
+
+Terms, the equation of state and the integrator add rows (e.g. the predictor-
+corrector keeps last step's rates ``acc_prev``, ``d_density_prev``).
+"""
+
+from __future__ import annotations
+
+import collections
+
+FLUID = 0
+WALL = 1
+KINDS = {"fluid": FLUID, "wall": WALL}
+
+BASE_VECTORS = ("position", "velocity")
+BASE_SCALARS = ("density", "pressure", "mass")
+BASE_INTEGERS = ("id", "material", "kind")
+
+
+class Layout:
+    """Row indices of every stored quantity; ``layout.q.name`` is the row of ``name``."""
+
+    def __init__(self, vectors=(), scalars=(), integers=()):
+        self.vectors = _unique(BASE_VECTORS + tuple(vectors))
+        self.scalars = _unique(BASE_SCALARS + tuple(scalars))
+        self.integers = _unique(BASE_INTEGERS + tuple(integers))
+        rows = {}
+        for group in (self.vectors, self.scalars, self.integers):
+            for k, name in enumerate(group):
+                if name in rows:
+                    raise ValueError(f"quantity {name!r} declared with two types")
+                rows[name] = k
+        # a namedtuple, so kernels can take it with ti.static(self.q)
+        self.q = collections.namedtuple("Rows", list(rows))(**rows)
+
+    def kind_of(self, name: str) -> str:
+        for kind, group in (("vector", self.vectors), ("scalar", self.scalars), ("integer", self.integers)):
+            if name in group:
+                return kind
+        raise KeyError(name)
+
+    def key(self):
+        return (self.vectors, self.scalars, self.integers)
+
+
+def _unique(names):
+    seen = []
+    for n in names:
+        if n not in seen:
+            seen.append(n)
+    return tuple(seen)

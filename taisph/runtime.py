@@ -1,0 +1,130 @@
+"""The Taichi runtime, initialised once per process.
+
+``ti.init`` settings (backend, default float precision) are global to a process and
+re-initialising destroys every Taichi array and compiled kernel. taisph therefore
+initialises Taichi lazily, the first time a simulation needs it, and afterwards only
+checks that later requests agree. Simulations of any size and parameters share the
+runtime and the compiled kernels (see :mod:`taisph.solver`).
+
+A different precision or backend can be selected once no simulation is alive
+(:func:`init` then resets Taichi and drops the kernel cache); asking for it while a
+simulation is alive raises, because resetting would silently destroy that
+simulation's state.
+"""
+
+from __future__ import annotations
+
+import os
+import weakref
+from dataclasses import dataclass
+
+import taichi as ti
+
+PRECISIONS = {"f32": ti.f32, "f64": ti.f64}
+ARCHS = {"cpu": ti.cpu, "cuda": ti.cuda, "vulkan": ti.vulkan, "metal": ti.metal, "gpu": ti.gpu}
+
+
+class RuntimeConflict(RuntimeError):
+    """Raised when a simulation asks for a backend/precision other than the live one."""
+
+
+@dataclass(frozen=True)
+class Runtime:
+    arch: str
+    precision: str
+    threads: int
+
+    @property
+    def real(self):
+        """Taichi float type of every particle quantity and every kernel."""
+        return PRECISIONS[self.precision]
+
+    @property
+    def numpy_real(self):
+        import numpy as np
+
+        return np.float32 if self.precision == "f32" else np.float64
+
+
+_current: Runtime | None = None
+_live = weakref.WeakSet()  # simulations holding Taichi arrays
+_on_reset = []  # callbacks run when Taichi is reset (e.g. clear kernel caches)
+
+
+def default_threads() -> int:
+    env = os.environ.get("TAISPH_THREADS")
+    if env:
+        return int(env)
+    return os.cpu_count() or 1
+
+
+def init(arch: str | None = None, precision: str | None = None, threads: int | None = None) -> Runtime:
+    """Initialise Taichi if needed and return the live runtime.
+
+    ``None`` means "whatever is live, or the default": CPU, f64, all cores.
+    """
+    global _current
+    if arch is not None and arch not in ARCHS:
+        raise ValueError(f"unknown arch {arch!r}; choose one of {', '.join(ARCHS)}")
+    if precision is not None and precision not in PRECISIONS:
+        raise ValueError(f"unknown precision {precision!r}; choose f32 or f64")
+    if _current is not None:
+        wanted = Runtime(
+            arch or _current.arch, precision or _current.precision, threads or _current.threads
+        )
+        if wanted == _current:
+            return _current
+        if len(_live):
+            raise RuntimeConflict(
+                f"Taichi is running with arch={_current.arch}, precision={_current.precision}, "
+                f"threads={_current.threads}; {len(_live)} simulation(s) still hold Taichi arrays. "
+                f"Close them (sim.close()) or delete them before asking for arch={wanted.arch}, "
+                f"precision={wanted.precision}, threads={wanted.threads}: re-initialising Taichi "
+                "destroys every array."
+            )
+        reset()
+    rt = Runtime(arch or "cpu", precision or "f64", threads or default_threads())
+    kwargs = dict(
+        arch=ARCHS[rt.arch],
+        default_fp=rt.real,
+        default_ip=ti.i32,
+        log_level=ti.WARN,
+        offline_cache=True,
+    )
+    if rt.arch == "cpu":
+        kwargs["cpu_max_num_threads"] = rt.threads
+    if os.environ.get("TAISPH_PROFILE"):
+        # per-task timings: ti.profiler.print_kernel_profiler_info()
+        kwargs["kernel_profiler"] = True
+    ti.init(**kwargs)
+    actual = ti.lang.impl.current_cfg().arch
+    if rt.arch not in ("cpu", "gpu") and actual != ARCHS[rt.arch]:
+        ti.reset()
+        raise RuntimeError(
+            f"arch={rt.arch} was requested but Taichi could not start it on this machine "
+            f"(it fell back to {actual.name}). Check the driver/device, or use --arch cpu."
+        )
+    _current = rt
+    return rt
+
+
+def current() -> Runtime:
+    return _current if _current is not None else init()
+
+
+def register(sim) -> None:
+    _live.add(sim)
+
+
+def unregister(sim) -> None:
+    _live.discard(sim)
+
+
+def reset() -> None:
+    """Reset Taichi: all arrays and compiled kernels are gone afterwards."""
+    global _current
+    for callback in _on_reset:
+        callback()
+    if _current is not None:
+        ti.reset()
+    _current = None

@@ -1,0 +1,264 @@
+"""A scene: particles, materials, the terms to simulate and the numerical settings.
+
+A scene is plain Python and numpy; nothing touches Taichi until a
+:class:`taisph.Simulation` is made from it. Cases (``taisph.cases.dam_break(...)``)
+return scenes, and scripts may edit them before simulating::
+
+    scene = taisph.cases.dam_break(dx=0.02)
+    scene.terms_by_name["artificial_viscosity"].values["alpha"] = 0.05
+    sim = taisph.Simulation(scene)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import integrators, smoothing
+from .layout import FLUID, KINDS, WALL
+from .terms import Tait
+from .terms.base import Term
+
+
+@dataclass
+class Material:
+    """A fluid's equation-of-state constants (Tait): reference density rho0 (kg/m^3),
+    sound speed c0 (m/s) and exponent gamma."""
+
+    name: str = "water"
+    rho0: float = 1000.0
+    c0: float = 50.0
+    gamma: float = 7.0
+
+    def check(self):
+        for key in ("rho0", "c0", "gamma"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"material {self.name!r}: {key} must be a positive number, got {v!r}")
+
+
+@dataclass
+class Scene:
+    """Everything a simulation needs. Arrays are in SI units, shape ``(N, dim)`` or ``(N,)``.
+
+    Particles are added in blocks with :meth:`add_fluid` and :meth:`add_walls`.
+    ``domain`` is the box ``(lo, hi)`` the neighbour grid covers; particles outside it
+    are still simulated correctly (only more slowly). ``dt=None`` chooses a stable
+    step from the sound speed, gravity and smoothing length (:meth:`stable_dt`).
+    """
+
+    name: str
+    dim: int
+    dx: float
+    smoothing_length: float
+    domain: tuple
+    materials: list = field(default_factory=lambda: [Material()])
+    terms: list = field(default_factory=list)
+    kernel: str = "spline"
+    integrator: str = "pc"
+    dt: float | None = None
+    t_end: float = 1.0
+    frames: int = 50
+    description: str = ""
+    eos: object = field(default_factory=Tait)
+    # per-particle data, filled by add_fluid/add_walls
+    position: np.ndarray = None
+    velocity: np.ndarray = None
+    mass: np.ndarray = None
+    density: np.ndarray = None
+    kind: np.ndarray = None
+    material: np.ndarray = None
+
+    def __post_init__(self):
+        if self.dim not in (1, 2, 3):
+            raise ValueError(f"dim must be 1, 2 or 3, got {self.dim!r}")
+        d = self.dim
+        self.position = np.zeros((0, d)) if self.position is None else np.asarray(self.position, float).reshape(-1, d)
+        n = len(self.position)
+        self.velocity = np.zeros((n, d)) if self.velocity is None else np.asarray(self.velocity, float).reshape(-1, d)
+        self.mass = np.zeros(n) if self.mass is None else np.asarray(self.mass, float).ravel()
+        self.density = np.zeros(n) if self.density is None else np.asarray(self.density, float).ravel()
+        self.kind = np.zeros(n, np.int32) if self.kind is None else np.asarray(self.kind, np.int32).ravel()
+        self.material = np.zeros(n, np.int32) if self.material is None else np.asarray(self.material, np.int32).ravel()
+        lo, hi = self.domain
+        self.domain = (np.asarray(lo, float).reshape(d), np.asarray(hi, float).reshape(d))
+
+    # --- building -------------------------------------------------------------
+    def add_particles(self, position, kind="fluid", material=0, mass=None, density=None, velocity=None):
+        """Append particles. `mass` defaults to rho0 dx^dim of their material,
+        `density` to rho0, `velocity` to zero. Returns the slice of the new ones."""
+        position = np.asarray(position, float).reshape(-1, self.dim)
+        n = len(position)
+        kind_code = KINDS[kind] if isinstance(kind, str) else int(kind)
+        rho0 = self.materials[material].rho0
+        density = np.full(n, rho0) if density is None else np.broadcast_to(np.asarray(density, float), (n,))
+        mass = np.full(n, rho0 * self.dx**self.dim) if mass is None else np.broadcast_to(np.asarray(mass, float), (n,))
+        velocity = np.zeros((n, self.dim)) if velocity is None else np.broadcast_to(np.asarray(velocity, float), (n, self.dim))
+        start = len(self.position)
+        self.position = np.concatenate([self.position, position])
+        self.velocity = np.concatenate([self.velocity, velocity])
+        self.mass = np.concatenate([self.mass, mass])
+        self.density = np.concatenate([self.density, density])
+        self.kind = np.concatenate([self.kind, np.full(n, kind_code, np.int32)])
+        self.material = np.concatenate([self.material, np.full(n, material, np.int32)])
+        return slice(start, start + n)
+
+    def add_fluid(self, position, material=0, **kw):
+        return self.add_particles(position, kind="fluid", material=material, **kw)
+
+    def add_walls(self, position, material=0, **kw):
+        return self.add_particles(position, kind="wall", material=material, **kw)
+
+    # --- derived ----------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        return len(self.position)
+
+    @property
+    def n_fluid(self) -> int:
+        return int(np.count_nonzero(self.kind == FLUID))
+
+    @property
+    def n_wall(self) -> int:
+        return int(np.count_nonzero(self.kind == WALL))
+
+    @property
+    def support_radius(self) -> float:
+        return smoothing.KERNELS[self.kernel].support * self.smoothing_length
+
+    @property
+    def terms_by_name(self) -> dict:
+        return {t.name: t for t in self.terms}
+
+    def parameters(self) -> dict:
+        """All runtime parameters of the scene's terms, by name."""
+        out = {"smoothing_length": self.smoothing_length}
+        for t in self.terms:
+            out.update(t.values)
+        return out
+
+    def stable_dt(self, courant: float = 0.2) -> float:
+        """A fixed time step from the acoustic CFL condition and the force condition
+        (Monaghan 1992 sec. 10; Monaghan 2005 eq. 4.12):
+
+            dt = min( C h / (c_max + |v|_max),  C sqrt(h / |g|) ),  C = 0.2.
+        """
+        h = self.smoothing_length
+        c_max = max(m.c0 for m in self.materials)
+        v_max = float(np.max(np.linalg.norm(self.velocity, axis=1))) if self.n else 0.0
+        dt = courant * h / (c_max + v_max)
+        for t in self.terms:
+            g = t.values.get("gravity")
+            if g is not None and np.linalg.norm(g) > 0:
+                dt = min(dt, courant * math.sqrt(h / np.linalg.norm(g)))
+        return dt
+
+    # --- checking -----------------------------------------------------------------
+    def validate(self) -> None:
+        """Raise ValueError naming the first problem found."""
+        d, n = self.dim, self.n
+        if n == 0:
+            raise ValueError(f"scene {self.name!r} has no particles")
+        for name, arr, shape in (
+            ("position", self.position, (n, d)),
+            ("velocity", self.velocity, (n, d)),
+            ("mass", self.mass, (n,)),
+            ("density", self.density, (n,)),
+            ("kind", self.kind, (n,)),
+            ("material", self.material, (n,)),
+        ):
+            if arr.shape != shape:
+                raise ValueError(f"scene {self.name!r}: {name} has shape {arr.shape}, expected {shape}")
+            if arr.dtype.kind == "f":
+                bad = np.flatnonzero(~np.all(np.isfinite(arr.reshape(n, -1)), axis=1))
+                if bad.size:
+                    raise ValueError(f"scene {self.name!r}: {name} of particle {bad[0]} is not finite: {arr[bad[0]]}")
+        for name, arr in (("mass", self.mass), ("density", self.density)):
+            bad = np.flatnonzero(arr <= 0)
+            if bad.size:
+                raise ValueError(f"scene {self.name!r}: {name} of particle {bad[0]} is {arr[bad[0]]}; it must be > 0")
+        bad = np.flatnonzero((self.material < 0) | (self.material >= len(self.materials)))
+        if bad.size:
+            raise ValueError(
+                f"scene {self.name!r}: particle {bad[0]} has material {self.material[bad[0]]}, "
+                f"but only {len(self.materials)} material(s) are defined"
+            )
+        bad = np.flatnonzero(~np.isin(self.kind, list(KINDS.values())))
+        if bad.size:
+            raise ValueError(f"scene {self.name!r}: particle {bad[0]} has unknown kind {self.kind[bad[0]]}")
+        for m in self.materials:
+            m.check()
+        if self.kernel not in smoothing.KERNELS:
+            raise ValueError(f"unknown kernel {self.kernel!r}; choose one of {', '.join(smoothing.KERNELS)}")
+        if self.integrator not in integrators.INTEGRATORS:
+            raise ValueError(f"unknown integrator {self.integrator!r}; choose one of {', '.join(integrators.INTEGRATORS)}")
+        for key in ("dx", "smoothing_length", "t_end"):
+            v = getattr(self, key)
+            if not (math.isfinite(v) and v > 0):
+                raise ValueError(f"scene {self.name!r}: {key} must be positive, got {v!r}")
+        if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"scene {self.name!r}: dt must be positive, got {self.dt!r}")
+        lo, hi = self.domain
+        if np.any(hi <= lo):
+            raise ValueError(f"scene {self.name!r}: domain {lo} .. {hi} is empty")
+        names = set()
+        for t in self.terms:
+            if not isinstance(t, Term):
+                raise TypeError(f"scene {self.name!r}: {t!r} is not a taisph term")
+            if t.name in names:
+                raise ValueError(f"scene {self.name!r}: term {t.name!r} listed twice")
+            names.add(t.name)
+            t.check(self)
+            t.param_values(self.dim)
+
+    def describe(self) -> str:
+        lines = [
+            f"{self.name}: {self.description}".rstrip(": "),
+            f"  {self.dim}D, {self.n_fluid} fluid + {self.n_wall} wall particles, dx = {self.dx:g} m, "
+            f"h = {self.smoothing_length:g} m ({self.kernel} kernel), integrator {self.integrator}",
+            "  effects: " + ", ".join(t.describe() for t in self.terms),
+        ]
+        return "\n".join(lines)
+
+
+# --- geometry helpers -----------------------------------------------------------------
+def lattice(lo, hi, dx) -> np.ndarray:
+    """Points of a regular lattice with spacing dx filling the box [lo, hi], each at
+    the centre of its dx-cell (so boxes side by side tile without overlap)."""
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    counts = [max(0, int(round((b - a) / dx))) for a, b in zip(lo, hi)]
+    axes = [a + dx * (np.arange(k) + 0.5) for a, k in zip(lo, counts)]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    return np.stack([m.ravel() for m in mesh], axis=1)
+
+
+def box_walls(lo, hi, spacing, layers=1, vertical_axis=None, open_top=True) -> np.ndarray:
+    """Wall particles on the faces of the box [lo, hi], `spacing` apart.
+
+    The face at the top of `vertical_axis` (default: the last axis in 1D/2D, y in 3D
+    is passed explicitly by the cases) is left open unless `open_top` is False.
+    `layers` > 1 adds layers outside the box, `spacing` apart.
+    """
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    dim = len(lo)
+    up = dim - 1 if vertical_axis is None else vertical_axis
+    pts = []
+    for layer in range(layers):
+        a = lo - layer * spacing
+        b = hi + layer * spacing
+        if open_top:
+            b[up] = hi[up]
+        counts = [int(round((b[d] - a[d]) / spacing)) for d in range(dim)]
+        axes = [np.linspace(a[d], b[d], counts[d] + 1) for d in range(dim)]
+        mesh = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
+        on_face = np.zeros(len(mesh), bool)
+        for d in range(dim):
+            on_face |= np.isclose(mesh[:, d], a[d])
+            if d != up or not open_top:
+                on_face |= np.isclose(mesh[:, d], b[d])
+        pts.append(mesh[on_face])
+    return np.concatenate(pts)

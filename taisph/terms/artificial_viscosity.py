@@ -1,0 +1,45 @@
+"""Monaghan artificial viscosity (seed eqs. 9-10).
+
+    dv_a/dt += - sum_b m_b Pi_ab grad_a W_ab,
+
+    Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab   if v_ab . r_ab < 0, else 0,
+    mu_ab = h v_ab . r_ab / (r_ab^2 + eta^2),  eta^2 = 0.01 h^2,
+
+with c_ab and rho_ab the pair means of sound speed and density. Monaghan (1992)
+eq. 4.1-4.2; Monaghan (1994) p. 400. The seed's eq. 10 omits c_ab; it is required
+for alpha to be dimensionless, as in Monaghan's papers. Fluid neighbours only.
+"""
+
+import taichi as ti
+
+from ..layout import FLUID
+from .base import Term
+
+
+@ti.data_oriented
+class ArtificialViscosity(Term):
+    """Parameters: ``alpha`` (linear, shear/bulk viscosity), ``beta`` (quadratic,
+    for shocks; 0 for liquids), ``eta_factor`` (eta^2 = eta_factor h^2, 0.01)."""
+
+    name = "artificial_viscosity"
+    params = {"alpha": 0.1, "beta": 0.0, "eta_factor": 0.01}
+    has_pair = True
+
+    @ti.func
+    def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
+        q = ti.static(self.q)
+        if s.Si[q.kind, j] == FLUID:
+            vij = s.Sv[q.velocity, i] - s.Sv[q.velocity, j]
+            vr = vij.dot(rij)
+            if vr < 0.0:
+                h = s.params[self.p_h]
+                mu = h * vr / (r * r + s.params[self.p.eta_factor] * h * h)
+                c_ab = 0.5 * (self.eos.sound_speed(s, i) + self.eos.sound_speed(s, j))
+                rho_ab = 0.5 * (s.Ss[q.density, i] + s.Ss[q.density, j])
+                pi_ab = (-s.params[self.p.alpha] * c_ab * mu + s.params[self.p.beta] * mu * mu) / rho_ab
+                rates.acc -= s.Ss[q.mass, j] * pi_ab * grad
+
+    def bound(self, layout, param_rows, material_cols, eos, rate_rows):
+        t = super().bound(layout, param_rows, material_cols, eos, rate_rows)
+        t.p_h = param_rows["smoothing_length"]
+        return t

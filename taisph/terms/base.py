@@ -1,0 +1,111 @@
+"""What a physical term is, and how the solver plugs it in.
+
+A term is one physical effect: one equation (or one part of one), with its source in
+its docstring. The solver assembles its per-step kernels at compile time from the
+terms a scene lists, with ``ti.static`` loops, so a term the scene does not list
+contributes no code and no memory. Its parameters are runtime values (one slot each
+in the simulation's parameter array), so changing them never recompiles a kernel.
+
+A term class declares:
+
+``params``
+    runtime parameters and their defaults (``float``, or ``"vector"`` for a
+    ``dim``-vector such as gravity whose default the term computes itself);
+``vectors``, ``scalars``
+    extra per-particle quantities it needs stored (see :mod:`taisph.layout`);
+``integrates``
+    per-particle scalars it gives a time derivative for, ``{quantity: rate}``;
+    the integrator advances them (``density`` from ``d_density`` for continuity);
+``pair(s, i, j, rij, r, grad, rates)``
+    optional ``ti.func``: contribution of neighbour ``j`` to fluid particle ``i``
+    (``rij = x_i - x_j``, ``r = |rij|``, ``grad = grad_i W_ij``), added to the
+    local accumulator ``rates``: ``rates.acc`` (dv/dt) and ``rates.d[self.r.<rate>]``
+    (e.g. ``rates.d[self.r.d_density]``);
+``body(s, i, rates)``
+    optional ``ti.func``: contribution that needs no neighbour (e.g. gravity).
+
+Inside those functions ``s`` is the kernel context (sorted state ``s.Sv``, ``s.Ss``,
+``s.Si``; parameters ``s.params``; material table ``s.mat``); ``self.q.<quantity>``,
+``self.p.<param>``, ``self.m.<material property>`` and ``self.r.<rate>`` are compile-time indices
+set by :meth:`bind`.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import collections
+
+import numpy as np
+
+
+class Term:
+    name = ""
+    params: dict = {}
+    vectors: tuple = ()
+    scalars: tuple = ()
+    integers: tuple = ()
+    integrates: dict = {}
+    has_pair = False
+    has_body = False
+    # quantities a term reads from the material table (column names)
+    options: dict = {}  # compile-time options: part of the kernel cache key
+
+    def __init__(self, **values):
+        unknown = set(values) - set(self.params)
+        if unknown:
+            raise TypeError(
+                f"{type(self).__name__} has no parameter(s) {', '.join(sorted(unknown))}; "
+                f"it has: {', '.join(self.params) or 'none'}"
+            )
+        self.values = {k: v for k, v in self.params.items() if v != "vector"}
+        self.values.update(values)
+
+    # --- compile time -------------------------------------------------------
+    def compile_key(self):
+        return (type(self).__module__, type(self).__qualname__, tuple(sorted(self.options.items())))
+
+    def bound(self, layout, param_rows, material_cols, eos, rate_rows):
+        """A copy of this term with compile-time row indices attached."""
+        t = copy.copy(self)
+        t.r = rate_rows
+        t.q = layout.q
+        names = list(self.params) or ["none"]
+        t.p = collections.namedtuple("ParamRows", names)(*[param_rows.get(k, -1) for k in names])
+        t.m = material_cols
+        t.eos = eos
+        return t
+
+    # --- runtime ------------------------------------------------------------
+    def param_values(self, dim: int) -> dict:
+        """Numeric value of every parameter (vectors as arrays of length dim)."""
+        out = {}
+        for k in self.params:
+            if k not in self.values:
+                raise ValueError(f"{type(self).__name__}: parameter {k!r} has no value")
+            v = self.values[k]
+            arr = np.atleast_1d(np.asarray(v, dtype=float))
+            if self.params[k] == "vector":
+                if arr.shape != (dim,):
+                    raise ValueError(f"{type(self).__name__}.{k} must have {dim} components, got {v!r}")
+            elif arr.shape != (1,):
+                raise ValueError(f"{type(self).__name__}.{k} must be a number, got {v!r}")
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"{type(self).__name__}.{k} must be finite, got {v!r}")
+            out[k] = arr
+        return out
+
+    def check(self, scene) -> None:
+        """Raise ValueError if the term cannot work in `scene` (override)."""
+
+    def describe(self) -> str:
+        vals = ", ".join(f"{k}={_fmt(v)}" for k, v in self.values.items())
+        return f"{self.name}({vals})" if vals else self.name
+
+
+def _fmt(v):
+    if isinstance(v, (tuple, list, np.ndarray)):
+        return "(" + ", ".join(_fmt(x) for x in v) + ")"
+    if isinstance(v, float):
+        return f"{v:.4g}" if math.isfinite(v) else str(v)
+    return str(v)

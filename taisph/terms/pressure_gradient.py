@@ -1,0 +1,28 @@
+"""Momentum equation, pressure part (seed eq. 8).
+
+    dv_a/dt = - sum_b m_b (P_a / rho_a^2 + P_b / rho_b^2) grad_a W_ab
+
+Monaghan (1992) eq. 3.3: the symmetric form, which conserves linear and angular
+momentum exactly because every pair contributes equal and opposite forces.
+Fluid neighbours only (see :mod:`taisph.terms.continuity`).
+"""
+
+import taichi as ti
+
+from ..layout import FLUID
+from .base import Term
+
+
+@ti.data_oriented
+class PressureGradient(Term):
+    name = "pressure"
+    has_pair = True
+
+    @ti.func
+    def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
+        if s.Si[self.q.kind, j] == FLUID:
+            q = ti.static(self.q)
+            rho_i = s.Ss[q.density, i]
+            rho_j = s.Ss[q.density, j]
+            pij = s.Ss[q.pressure, i] / (rho_i * rho_i) + s.Ss[q.pressure, j] / (rho_j * rho_j)
+            rates.acc -= s.Ss[q.mass, j] * pij * grad

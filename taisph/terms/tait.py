@@ -1,0 +1,54 @@
+"""Tait (Cole) equation of state for weakly compressible liquids (seed eq. 12).
+
+    P = B [ (rho / rho0)^gamma - 1 ],    B = rho0 c0^2 / gamma,
+
+Monaghan (1994) eq. 3.1 / Batchelor (1967). gamma = 7 for water. The sound speed c0
+sets the compressibility: c0 >= 10 U_max keeps density variations near 1 %.
+Each material has its own rho0, c0, gamma (columns of the material table).
+"""
+
+import taichi as ti
+
+
+@ti.data_oriented
+class Tait:
+    name = "tait"
+    columns = ("rho0", "c0", "gamma", "B")
+
+    def material_row(self, material) -> list:
+        b = material.rho0 * material.c0**2 / material.gamma
+        return [material.rho0, material.c0, material.gamma, b]
+
+    def bind(self, layout, material_cols):
+        self.q = layout.q
+        self.m = material_cols
+        return self
+
+    def compile_key(self):
+        return ("tait",)
+
+    @ti.func
+    def pressure(self, s: ti.template(), material, rho):
+        ratio = rho / s.mat[material, self.m.rho0]
+        gamma = s.mat[material, self.m.gamma]
+        power = 0.0
+        if gamma == 7.0:  # water: 4 multiplications instead of a libm pow (~10x faster)
+            r2 = ratio * ratio
+            power = r2 * r2 * r2 * ratio
+        else:
+            power = ti.pow(ratio, gamma)
+        return s.mat[material, self.m.B] * (power - 1.0)
+
+    @ti.func
+    def sound_speed(self, s: ti.template(), i):
+        return s.mat[s.Si[self.q.material, i], self.m.c0]
+
+
+def pressure(rho, rho0, c0, gamma=7.0):
+    """Tait pressure (numpy), for initial conditions and tests."""
+    return rho0 * c0**2 / gamma * ((rho / rho0) ** gamma - 1.0)
+
+
+def density(p, rho0, c0, gamma=7.0):
+    """Inverse Tait: the density at pressure p (numpy)."""
+    return rho0 * (1.0 + p * gamma / (rho0 * c0**2)) ** (1.0 / gamma)
