@@ -96,7 +96,8 @@ def build_parser(case: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def list_cases(out=sys.stdout):
+def list_cases(out=None):
+    out = sys.stdout if out is None else out
     cases = _cases()
     width = max(len(n) for n in cases)
     print("built-in cases (python -m taisph CASE --help for parameters):", file=out)

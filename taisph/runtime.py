@@ -51,6 +51,12 @@ _live = weakref.WeakSet()  # simulations holding Taichi arrays
 _on_reset = []  # callbacks run when Taichi is reset (e.g. clear kernel caches)
 
 
+def on_reset(callback):
+    """Register `callback` to run when Taichi is reset (compiled kernels are gone)."""
+    _on_reset.append(callback)
+    return callback
+
+
 def default_threads() -> int:
     env = os.environ.get("TAISPH_THREADS")
     if env:
@@ -128,3 +134,20 @@ def reset() -> None:
     if _current is not None:
         ti.reset()
     _current = None
+
+
+def free_ndarray(array) -> None:
+    """Release a Taichi ndarray's memory now.
+
+    Taichi 1.7 frees scalar ndarrays when Python collects them, but vector and
+    matrix ndarrays leak (taichi-dev/taichi#8763), so taisph frees those itself
+    when a simulation closes. Do not use `array` afterwards.
+    """
+    if array is None or getattr(array, "_taisph_freed", False) or hasattr(type(array), "__del__"):
+        return
+    from taichi.lang import impl
+
+    rt = impl.get_runtime()
+    if rt is not None and rt.prog is not None:
+        rt.prog.delete_ndarray(array.arr)
+        array._taisph_freed = True

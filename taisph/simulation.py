@@ -146,13 +146,16 @@ class Simulation:
 
     def close(self):
         """Free the Taichi arrays now (they are also freed when the object is dropped)."""
+        if getattr(self, "_C", None) is not None and runtime._current is self.runtime:
+            for array in (*self._C, *self._S):
+                runtime.free_ndarray(array)
         self._C = self._S = self._cells = None
         self._cell_of = self._params = self._mat = self._gshape = None
         runtime.unregister(self)
 
     def __del__(self):
         try:
-            runtime.unregister(self)
+            self.close()
         except Exception:
             pass
 
@@ -197,9 +200,12 @@ class Simulation:
         self._upload_parameters()
 
     # --- stepping -----------------------------------------------------------------
+    def _kernel_args(self):
+        return (*self._C, *self._S, self._cell_of, *self._cells, self._params, self._mat, self._gshape)
+
     def _step_arrays(self, dt: float):
         sort, force = self.solver.kernels(serial_sort=self.n < _solver.SERIAL_SORT_BELOW)
-        args = (*self._C, *self._S, self._cell_of, *self._cells, self._params, self._mat, self._gshape)
+        args = self._kernel_args()
         sort(*args, dt)
         force(*args, dt)
 
@@ -310,6 +316,11 @@ class Simulation:
         """Any stored per-particle quantity by name, in particle-id order."""
         kind = self.solver.layout.kind_of(name)
         return {"vector": self._vector, "scalar": self._scalar, "integer": self._integer}[kind](name)
+
+    def neighbour_pairs(self) -> np.ndarray:
+        """Ordered pairs of particle ids closer than the kernel support, as found by
+        the neighbour grid: an (M, 2) array (each pair appears as (i, j) and (j, i))."""
+        return self.solver.neighbour_pairs(self)
 
     @property
     def fluid(self) -> np.ndarray:

@@ -52,7 +52,7 @@ def config_of(scene) -> Config:
 
 
 _cache: dict = {}
-runtime._on_reset.append(_cache.clear)
+runtime.on_reset(_cache.clear)
 
 
 def get(scene) -> "Solver":
@@ -144,6 +144,26 @@ class Solver:
             self._kernels["pressure"] = self._build_pressure()
         self._kernels["pressure"](Cv, Cs, Ci, params, mat)
 
+    def neighbour_pairs(self, sim) -> np.ndarray:
+        """(M, 2) particle ids (i, j), i != j, |x_i - x_j| < support radius, found by
+        the grid traversal the force pass uses (for tests of the neighbour search)."""
+        if "pairs" not in self._kernels:
+            self._kernels["pairs"] = self._build_pairs()
+        count, fill = self._kernels["pairs"]
+        sort, _ = self.kernels(serial_sort=sim.n < SERIAL_SORT_BELOW)
+        args = sim._kernel_args()
+        sort(*args, 0.0)  # sorts S by cell; dt = 0 leaves the state unchanged
+        n = sim.n
+        counts = ti.ndarray(ti.i32, n)
+        count(*args, counts)
+        c = counts.to_numpy()
+        offsets = np.concatenate([[0], np.cumsum(c)]).astype(np.int32)
+        off_nd = ti.ndarray(ti.i32, n + 1)
+        off_nd.from_numpy(offsets)
+        out = ti.ndarray(ti.i32, (max(1, int(offsets[-1])), 2))
+        fill(*args, off_nd, out)
+        return out.to_numpy()[: offsets[-1]]
+
     def compiled_count(self) -> int:
         """How many Taichi kernel instances this solver has compiled (for tests)."""
         total = 0
@@ -203,6 +223,48 @@ class Solver:
                 Ss[q.pressure, slot] = eos.pressure(s, Si[q.material, slot], Ss[q.density, slot])
 
         return sort
+
+    def _build_pairs(self):
+        a = self._annotations()
+        V, S, I, I1, R1 = a["V"], a["S"], a["I"], a["I1"], a["R1"]
+        real, dim = self.real, self.dim
+        q = self.layout.q
+        grid = self.grid
+        support = self.kernel.support
+        p_h = self.param_rows["smoothing_length"]
+        PairOut = ti.types.ndarray(dtype=ti.i32, ndim=2)
+
+        @ti.func
+        def visit(s: ti.template(), i, out: ti.template(), offset, record: ti.template()):
+            support2 = (support * s.params[p_h]) ** 2
+            xi = s.Sv[q.position, i]
+            c = grid.coords(s, xi)
+            k = offset
+            for row in ti.static(range(3 ** (dim - 1))):
+                begin, end = grid.row_range(s, c, row)
+                for j in range(begin, end):
+                    if j != i and (xi - s.Sv[q.position, j]).norm_sqr() < support2:
+                        if ti.static(record):
+                            out[k, 0] = s.Si[q.id, i]
+                            out[k, 1] = s.Si[q.id, j]
+                        k += 1
+            return k - offset
+
+        @ti.kernel
+        def count(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
+                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, counts: I1):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+            for i in range(Sv.shape[1]):
+                counts[i] = visit(s, i, counts, 0, False)
+
+        @ti.kernel
+        def fill(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
+                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, offsets: I1, out: PairOut):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+            for i in range(Sv.shape[1]):
+                visit(s, i, out, offsets[i], True)
+
+        return count, fill
 
     def _build_pressure(self):
         a = self._annotations()
