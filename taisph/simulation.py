@@ -70,6 +70,8 @@ class Simulation:
         self.time = 0.0
         self.steps = 0
         self.dt = scene.dt if scene.dt is not None else scene.stable_dt()
+        self._serial_sort = self.n < _solver.SERIAL_SORT_BELOW
+        self._graph_args = None
         self._allocate()
         self._upload(scene)
         runtime.register(self)
@@ -104,6 +106,7 @@ class Simulation:
             )
         self.grid_lo, self.grid_cell, self.grid_shape = lo, cell, shape
         self._cells = tuple(ti.ndarray(ti.i32, k) for k in (n_cells, n_cells + 1, n_cells))
+        self._graph_args = None  # arrays changed: rebind the step graph
         self._cells[0].fill(0)
         g = np.zeros(4, np.int32)
         g[: self.dim] = shape
@@ -151,6 +154,7 @@ class Simulation:
                 runtime.free_ndarray(array)
         self._C = self._S = self._cells = None
         self._cell_of = self._params = self._mat = self._gshape = None
+        self._graph_args = None
         runtime.unregister(self)
 
     def __del__(self):
@@ -204,10 +208,18 @@ class Simulation:
         return (*self._C, *self._S, self._cell_of, *self._cells, self._params, self._mat, self._gshape)
 
     def _step_arrays(self, dt: float):
-        sort, force = self.solver.kernels(serial_sort=self.n < _solver.SERIAL_SORT_BELOW)
-        args = self._kernel_args()
-        sort(*args, dt)
-        force(*args, dt)
+        if self._graph_args is None:
+            args = self._kernel_args()
+            self._graph = self.solver.step_graph(self._serial_sort, args)
+            self._graph_args = dict(zip(self.solver.ARG_NAMES, args))
+        if self._graph is not None:
+            self._graph_args["dt"] = dt
+            self._graph.run(self._graph_args)
+        else:
+            sort, force = self.solver.kernels(self._serial_sort)
+            args = self._kernel_args()
+            sort(*args, dt)
+            force(*args, dt)
 
     def step(self, n: int = 1, dt: float | None = None):
         """Advance `n` steps of `dt` (default: the scene's dt)."""

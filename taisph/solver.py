@@ -80,7 +80,7 @@ class Solver:
         integ = integrators.make(scene.integrator, self.integrated)
         extra_v, extra_s = integ.quantities()
         vectors = list(extra_v)
-        scalars = list(extra_s)
+        scalars = list(extra_s) + list(scene.eos.scalars)
         integers = []
         for t in scene.terms:
             vectors += t.vectors
@@ -138,6 +138,33 @@ class Solver:
             self._kernels[key] = (self._build_sort(serial_sort), self._build_force())
         return self._kernels[key]
 
+    ARG_NAMES = ("Cv", "Cs", "Ci", "Sv", "Ss", "Si", "cell_of", "cell_count", "cell_start", "cell_fill",
+                 "params", "mat", "gshape")
+
+    def step_graph(self, serial_sort: bool, args):
+        """A Taichi graph running one step (sort, force) in a single call from Python.
+
+        A plain kernel call costs about 13 us of Python argument handling per ndarray
+        argument (28 per step here); a graph binds them in C++. Returns None if the
+        backend cannot build graphs (then the kernels are called directly)."""
+        key = ("graph", serial_sort)
+        if key not in self._kernels:
+            sort, force = self.kernels(serial_sort)
+            G = ti.graph
+            try:
+                symbols = []
+                for name, array in zip(self.ARG_NAMES, args):
+                    dtype = self.vec if name in ("Cv", "Sv") else array.dtype
+                    symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=dtype, ndim=len(array.shape)))
+                dt = G.Arg(G.ArgKind.SCALAR, "dt", self.real)
+                builder = G.GraphBuilder()
+                builder.dispatch(sort, *symbols, dt)
+                builder.dispatch(force, *symbols, dt)
+                self._kernels[key] = builder.compile()
+            except Exception:  # pragma: no cover - backend without graph support
+                self._kernels[key] = None
+        return self._kernels[key]
+
     def update_pressure(self, Cv, Cs, Ci, params, mat):
         """Fill the pressure row of the current state from its density (for output)."""
         if "pressure" not in self._kernels:
@@ -150,7 +177,7 @@ class Solver:
         if "pairs" not in self._kernels:
             self._kernels["pairs"] = self._build_pairs()
         count, fill = self._kernels["pairs"]
-        sort, _ = self.kernels(serial_sort=sim.n < SERIAL_SORT_BELOW)
+        sort, _ = self.kernels(serial_sort=sim._serial_sort)
         args = sim._kernel_args()
         sort(*args, 0.0)  # sorts S by cell; dt = 0 leaves the state unchanged
         n = sim.n
@@ -169,7 +196,8 @@ class Solver:
         total = 0
         for ks in self._kernels.values():
             for k in ks if isinstance(ks, tuple) else (ks,):
-                total += len(k._primal.compiled_kernels)
+                if hasattr(k, "_primal"):
+                    total += len(k._primal.compiled_kernels)
         return total
 
     # ------------------------------------------------------------------------
@@ -190,6 +218,7 @@ class Solver:
         q = self.layout.q
         nv, ns, ni = len(self.layout.vectors), len(self.layout.scalars), len(self.layout.integers)
         grid, integ, eos = self.grid, self.integrator, self.eos
+        derive_terms = [t for t in self.terms if t.has_derive]
 
         @ti.kernel
         def sort(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
@@ -220,7 +249,9 @@ class Solver:
                 for k in ti.static(range(ni)):
                     Si[k, slot] = Ci[k, i]
                 integ.predict(s, i, slot, dt)
-                Ss[q.pressure, slot] = eos.pressure(s, Si[q.material, slot], Ss[q.density, slot])
+                eos.derive(s, slot)
+                for t in ti.static(derive_terms):
+                    t.derive(s, slot)
 
         return sort
 
@@ -275,7 +306,7 @@ class Solver:
         def pressure(Cv: V, Cs: S, Ci: I, params: R1, mat: S):
             s = ti.static(Ctx(Cv, Cs, Ci, Cv, Cs, Ci, None, None, None, None, params, mat, None))
             for i in range(Cs.shape[1]):
-                Cs[q.pressure, i] = eos.pressure(s, Ci[q.material, i], Cs[q.density, i])
+                eos.derive(s, i)  # here s.S* are the current arrays C
 
         return pressure
 

@@ -22,7 +22,11 @@ A term class declares:
     local accumulator ``rates``: ``rates.acc`` (dv/dt) and ``rates.d[self.r.<rate>]``
     (e.g. ``rates.d[self.r.d_density]``);
 ``body(s, i, rates)``
-    optional ``ti.func``: contribution that needs no neighbour (e.g. gravity).
+    optional ``ti.func``: contribution that needs no neighbour (e.g. gravity);
+``derive(s, i)``
+    optional ``ti.func``, run for every particle after the equation of state when
+    the state is gathered in cell order: per-particle quantities the pair sums
+    reuse (e.g. P / rho^2), stored in the term's own ``scalars``.
 
 Inside those functions ``s`` is the kernel context (sorted state ``s.Sv``, ``s.Ss``,
 ``s.Si``; parameters ``s.params``; material table ``s.mat``); ``self.q.<quantity>``,
@@ -48,6 +52,7 @@ class Term:
     integrates: dict = {}
     has_pair = False
     has_body = False
+    has_derive = False
     # quantities a term reads from the material table (column names)
     options: dict = {}  # compile-time options: part of the kernel cache key
 

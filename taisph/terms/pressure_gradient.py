@@ -17,12 +17,18 @@ from .base import Term
 class PressureGradient(Term):
     name = "pressure"
     has_pair = True
+    has_derive = True
+    scalars = ("p_over_rho2",)
+
+    @ti.func
+    def derive(self, s: ti.template(), i):
+        # P / rho^2 once per particle instead of a division per pair
+        rho = s.Ss[self.q.density, i]
+        s.Ss[self.q.p_over_rho2, i] = s.Ss[self.q.pressure, i] / (rho * rho)
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         if s.Si[self.q.kind, j] == FLUID:
             q = ti.static(self.q)
-            rho_i = s.Ss[q.density, i]
-            rho_j = s.Ss[q.density, j]
-            pij = s.Ss[q.pressure, i] / (rho_i * rho_i) + s.Ss[q.pressure, j] / (rho_j * rho_j)
+            pij = s.Ss[q.p_over_rho2, i] + s.Ss[q.p_over_rho2, j]
             rates.acc -= s.Ss[q.mass, j] * pij * grad

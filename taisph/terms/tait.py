@@ -12,8 +12,12 @@ import taichi as ti
 
 @ti.data_oriented
 class Tait:
+    """The equation of state a scene uses; the solver calls :meth:`derive` for every
+    particle when it gathers the state in cell order, before the rates are summed."""
+
     name = "tait"
-    columns = ("rho0", "c0", "gamma", "B")
+    columns = ("rho0", "c0", "gamma", "B")  # per-material constants (material table)
+    scalars = ("sound_speed",)  # per-particle quantities it stores
 
     def material_row(self, material) -> list:
         b = material.rho0 * material.c0**2 / material.gamma
@@ -26,6 +30,14 @@ class Tait:
 
     def compile_key(self):
         return ("tait",)
+
+    @ti.func
+    def derive(self, s: ti.template(), i):
+        """Pressure and sound speed of (sorted) particle i from its density."""
+        q = ti.static(self.q)
+        material = s.Si[q.material, i]
+        s.Ss[q.pressure, i] = self.pressure(s, material, s.Ss[q.density, i])
+        s.Ss[q.sound_speed, i] = s.mat[material, self.m.c0]
 
     @ti.func
     def pressure(self, s: ti.template(), material, rho):
@@ -41,7 +53,7 @@ class Tait:
 
     @ti.func
     def sound_speed(self, s: ti.template(), i):
-        return s.mat[s.Si[self.q.material, i], self.m.c0]
+        return s.Ss[self.q.sound_speed, i]
 
 
 def pressure(rho, rho0, c0, gamma=7.0):
