@@ -34,11 +34,11 @@ class Progress:
             self._start = time.perf_counter()
         return self
 
-    def update(self, t: float, steps: int):
+    def update(self, t: float, steps: int, force: bool = False):
         if not self.enabled:
             return
         now = time.perf_counter()
-        if now < self._next:
+        if now < self._next and not force:
             return
         self._next = now + 0.1
         rate = steps / (now - self._start) if now > self._start else 0.0
@@ -46,6 +46,5 @@ class Progress:
 
     def __exit__(self, *exc):
         if self.enabled:
-            self._bar.update(self._task, completed=min(self._bar.tasks[0].completed, self.t_end))
             self._bar.__exit__(*exc)
         return False

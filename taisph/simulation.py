@@ -267,6 +267,7 @@ class Simulation:
                     self.steps += 1
                     bar.update(self.time, self.steps - steps0)
                 self.time = t_frame
+                bar.update(self.time, self.steps - steps0, force=True)
                 if writer is not None:
                     writer.write(self)
                     written += 1
