@@ -1,8 +1,8 @@
-"""Uniform-grid neighbour search by counting sort.
+"""Uniform-grid neighbour search by counting sort, with optional periodic axes.
 
-The grid covers the scene's domain with cubic cells of edge ``cell`` (at least the
-kernel support radius), numbered x-fastest: ``c = cx + nx (cy + ny cz)``. Every step
-(:func:`taisph.solver`):
+The grid covers the scene's domain with cells at least as large as the kernel support
+radius, numbered x-fastest: ``c = cx + nx (cy + ny cz)``. Every step
+(:mod:`taisph.solver`):
 
 1. each particle's cell index is computed, and the particles of each cell counted;
 2. an exclusive prefix sum over the cells gives each cell's first slot (serial: a
@@ -12,14 +12,19 @@ kernel support radius), numbered x-fastest: ``c = cx + nx (cy + ny cz)``. Every 
    so the state arrays are sorted by cell and a cell's particles are contiguous.
 
 Because cells are numbered x-fastest, the three cells ``cx-1 .. cx+1`` of one row are
-contiguous too: a particle's neighbours are in ``3^(dim-1)`` contiguous slot ranges.
+contiguous too: a particle's neighbours are in ``3^(dim-1)`` contiguous slot ranges
+(``3^dim`` single cells when the x axis is periodic, since its rows wrap around).
 
-Particles outside the domain (or with non-finite coordinates) are clamped into the
-border cells, so no index ever leaves the arrays. Clamping keeps every pair closer
-than one cell in adjacent cells, so the neighbour set stays exact; only the speed
-suffers if many particles pile up outside the domain.
+Non-periodic axes: particles outside the domain (or with non-finite coordinates) are
+clamped into the border cells, so no index ever leaves the arrays. Clamping keeps every
+pair closer than one cell in adjacent cells, so the neighbour set stays exact; only
+the speed suffers if many particles pile up outside the domain.
+
+Periodic axes: the domain's extent ``L`` is the period; positions are wrapped into
+``[lo, lo + L)`` every step, the grid has ``n = floor(L / support) >= 3`` cells of edge
+``L / n`` along the axis, neighbouring cells wrap around, and separations use the
+nearest image, ``r_ij -= L round(r_ij / L)``.
 """
-
 
 import math
 
@@ -27,33 +32,93 @@ import numpy as np
 import taichi as ti
 
 
-def grid_shape(lo, hi, cell: float) -> tuple[int, ...]:
-    """Number of cells per axis covering the box [lo, hi] with cells of edge `cell`."""
+def grid_shape(lo, hi, cell) -> tuple:
+    """Number of cells per axis covering the box [lo, hi] with cells of edge `cell`
+    (a number, or one per axis)."""
     lo = np.asarray(lo, dtype=float)
     hi = np.asarray(hi, dtype=float)
-    return tuple(max(1, int(math.ceil((b - a) / cell - 1e-9))) for a, b in zip(lo, hi))
+    cell = np.broadcast_to(np.asarray(cell, dtype=float), lo.shape)
+    return tuple(max(1, int(math.ceil((b - a) / c - 1e-9))) for a, b, c in zip(lo, hi, cell))
+
+
+def layout_grid(domain, periodic, support, positions):
+    """(lo, cell edges, shape) of the grid for a domain, its periodic axes, the kernel
+    support radius and the current (finite) positions."""
+    lo_d, hi_d = (np.asarray(a, dtype=float) for a in domain)
+    dim = len(lo_d)
+    finite = positions[np.all(np.isfinite(positions), axis=1)]
+    lo = np.empty(dim)
+    cell = np.empty(dim)
+    shape = []
+    for d in range(dim):
+        if periodic[d]:
+            length = hi_d[d] - lo_d[d]
+            n = int(math.floor(length / support * (1 + 1e-12)))
+            if n < 3:
+                raise ValueError(
+                    f"periodic axis {d} is {length:g} long: it needs at least 3 kernel supports "
+                    f"({3 * support:g}) for the nearest-image neighbour search"
+                )
+            lo[d], cell[d] = lo_d[d], length / n
+            shape.append(n)
+        else:
+            a = min(lo_d[d], finite[:, d].min() if len(finite) else lo_d[d]) - support
+            b = max(hi_d[d], finite[:, d].max() if len(finite) else hi_d[d]) + support
+            lo[d], cell[d] = a, support
+            shape.append(max(1, int(math.ceil((b - a) / support - 1e-9))))
+    return lo, cell, tuple(shape)
 
 
 @ti.data_oriented
 class Grid:
-    """Cell arithmetic inside kernels. ``s.params[p_lo + d]`` is the grid origin,
-    ``s.params[p_inv_cell]`` the inverse cell edge; ``s.gshape`` holds
-    ``(n0, n1, n2, n_cells)``."""
+    """Cell arithmetic inside kernels.
 
-    def __init__(self, dim: int, real, p_lo: int, p_inv_cell: int):
+    ``s.params[p_lo + d]`` is the grid origin, ``s.params[p_inv_cell + d]`` the inverse
+    cell edge and ``s.params[p_period + d]`` the period of axis d; ``s.gshape`` holds
+    ``(n0, n1, n2, n_cells)``. ``periodic`` (a tuple of bools) is compile-time.
+    """
+
+    def __init__(self, dim, real, p_lo, p_inv_cell, p_period, periodic):
         self.dim = dim
         self.real = real
         self.p_lo = p_lo
         self.p_inv_cell = p_inv_cell
+        self.p_period = p_period
+        self.periodic = tuple(bool(p) for p in periodic)
+        self.any_periodic = any(self.periodic)
+        # slot ranges per particle: merged rows, or single cells if x wraps around
+        self.n_ranges = 3**dim if self.periodic[0] else 3 ** (dim - 1)
+
+    @ti.func
+    def wrap(self, s: ti.template(), x):
+        """Position moved into the periodic box along periodic axes."""
+        y = x
+        for d in ti.static(range(self.dim)):
+            if ti.static(self.periodic[d]):
+                lo = s.params[self.p_lo + d]
+                period = s.params[self.p_period + d]
+                y[d] = lo + (x[d] - lo) - period * ti.floor((x[d] - lo) / period)
+                if y[d] >= lo + period:  # rounding of the line above
+                    y[d] = lo
+        return y
+
+    @ti.func
+    def separation(self, s: ti.template(), xi, xj):
+        """x_i - x_j, by the nearest image along periodic axes."""
+        rij = xi - xj
+        for d in ti.static(range(self.dim)):
+            if ti.static(self.periodic[d]):
+                period = s.params[self.p_period + d]
+                rij[d] -= period * ti.round(rij[d] / period)
+        return rij
 
     @ti.func
     def coords(self, s: ti.template(), x):
         c = ti.Vector.zero(ti.i32, self.dim)
-        inv = s.params[self.p_inv_cell]
         for d in ti.static(range(self.dim)):
             # Compare in floating point before casting: a float-to-int cast of a
             # huge or NaN coordinate is undefined, a clamped float is not.
-            f = ti.floor((x[d] - s.params[self.p_lo + d]) * inv)
+            f = ti.floor((x[d] - s.params[self.p_lo + d]) * s.params[self.p_inv_cell + d])
             clamped = ti.cast(0.0, self.real)  # also for NaN, which fails f >= 0
             if f >= 0.0:
                 clamped = ti.min(f, ti.cast(s.gshape[d] - 1, self.real))
@@ -69,23 +134,48 @@ class Grid:
         return index
 
     @ti.func
-    def row_range(self, s: ti.template(), c, row: ti.template()):
-        """Slots [begin, end) of the cells (cx-1..cx+1, cy+dy, cz+dz) where
-        (dy, dz) is the `row`-th of the 3^(dim-1) offsets; empty off the grid."""
+    def slot_range(self, s: ti.template(), c, k: ti.template()):
+        """Slots [begin, end) of the k-th of the n_ranges neighbour cell ranges of cell c;
+        empty where it falls off a non-periodic grid."""
         begin = 0
         end = 0
         inside = True
         other = c
-        for d in ti.static(range(1, self.dim)):
-            offset = ti.static((row // 3 ** (d - 1)) % 3 - 1)
+        first_axis = ti.static(0 if self.periodic[0] else 1)
+        for d in ti.static(range(first_axis, self.dim)):
+            offset = ti.static((k // 3 ** (d - first_axis)) % 3 - 1)
             other[d] = c[d] + offset
-            if other[d] < 0 or other[d] >= s.gshape[d]:
+            if ti.static(self.periodic[d]):
+                n = s.gshape[d]
+                if other[d] < 0:
+                    other[d] += n
+                elif other[d] >= n:
+                    other[d] -= n
+            elif other[d] < 0 or other[d] >= s.gshape[d]:
                 inside = False
         if inside:
-            other[0] = ti.max(c[0] - 1, 0)
-            first = self.linear(s, other)
-            other[0] = ti.min(c[0] + 1, s.gshape[0] - 1)
-            last = self.linear(s, other)
-            begin = s.cell_start[first]
-            end = s.cell_start[last + 1]
+            if ti.static(self.periodic[0]):
+                cell = self.linear(s, other)
+                begin = s.cell_start[cell]
+                end = s.cell_start[cell + 1]
+            else:
+                other[0] = ti.max(c[0] - 1, 0)
+                first = self.linear(s, other)
+                other[0] = ti.min(c[0] + 1, s.gshape[0] - 1)
+                last = self.linear(s, other)
+                begin = s.cell_start[first]
+                end = s.cell_start[last + 1]
         return begin, end
+
+    @ti.func
+    def for_each_neighbour(self, s: ti.template(), i, xi, support2, visitor: ti.template(), acc: ti.template()):
+        """Call ``visitor.visit(s, i, j, rij, r2, acc)`` for every particle j != i with
+        |x_i - x_j|^2 < support2 (x_i = xi), in a fixed order (so sums are reproducible)."""
+        c = self.coords(s, xi)
+        for k in ti.static(range(self.n_ranges)):
+            begin, end = self.slot_range(s, c, k)
+            for j in range(begin, end):
+                rij = self.separation(s, xi, s.Sv[visitor.q.position, j])
+                r2 = rij.norm_sqr()
+                if r2 < support2 and j != i:
+                    visitor.visit(s, i, j, rij, r2, acc)

@@ -10,6 +10,9 @@ Integrated quantities: position (from velocity), velocity (from ``rates.acc``) a
 every scalar a term declares in ``integrates`` (density from ``d_density``, ...).
 Wall particles are never integrated by these formulas: they move rigidly with their
 own prescribed velocity (zero for fixed walls).
+
+If a term provides ``rates.shift`` (XSPH), positions move with ``v + shift`` instead
+of ``v``: the shift changes where particles go, not their momentum.
 """
 
 
@@ -26,11 +29,20 @@ class Euler:
     name = "euler"
     order = 1
 
-    def __init__(self, integrated):
+    def __init__(self, integrated, has_shift=False):
         self.integrated = tuple(integrated)  # ((quantity, rate), ...)
+        self.has_shift = has_shift
 
     def quantities(self):
         return (), ()
+
+    @ti.func
+    def _moving(self, v, rates: ti.template()):
+        """The velocity positions move with: v, or v + the XSPH shift."""
+        u = v
+        if ti.static(self.has_shift):
+            u = v + rates.shift
+        return u
 
     def bind(self, layout):
         self.q = layout.q
@@ -55,7 +67,7 @@ class Euler:
     def update(self, s: ti.template(), i, rates: ti.template(), dt):
         q = ti.static(self.q)
         v = s.Sv[q.velocity, i]
-        s.Cv[q.position, i] = s.Sv[q.position, i] + dt * v
+        s.Cv[q.position, i] = s.Sv[q.position, i] + dt * self._moving(v, rates)
         s.Cv[q.velocity, i] = v + dt * rates.acc
         for k in ti.static(self.rows):
             s.Cs[k[0], i] = s.Ss[k[0], i] + dt * rates.d[k[1]]
@@ -75,7 +87,7 @@ class EulerMid(Euler):
     def update(self, s: ti.template(), i, rates: ti.template(), dt):
         q = ti.static(self.q)
         v = s.Sv[q.velocity, i] + dt * rates.acc
-        s.Cv[q.position, i] = s.Sv[q.position, i] + dt * v
+        s.Cv[q.position, i] = s.Sv[q.position, i] + dt * self._moving(v, rates)
         s.Cv[q.velocity, i] = v
         for k in ti.static(self.rows):
             s.Cs[k[0], i] = s.Ss[k[0], i] + dt * rates.d[k[1]]
@@ -104,7 +116,8 @@ class PredictorCorrector(Euler):
     order = 2
 
     def quantities(self):
-        return ("acc_prev",), tuple(rate + "_prev" for _, rate in self.integrated)
+        vectors = ("acc_prev", "shift_prev") if self.has_shift else ("acc_prev",)
+        return vectors, tuple(rate + "_prev" for _, rate in self.integrated)
 
     def bind(self, layout):
         super().bind(layout)
@@ -114,7 +127,10 @@ class PredictorCorrector(Euler):
     @ti.func
     def predicted_position(self, s: ti.template(), i, dt):
         q = ti.static(self.q)
-        return s.Cv[q.position, i] + dt * s.Cv[q.velocity, i] + (0.5 * dt * dt) * s.Cv[q.acc_prev, i]
+        v = s.Cv[q.velocity, i]
+        if ti.static(self.has_shift):
+            v += s.Cv[q.shift_prev, i]
+        return s.Cv[q.position, i] + dt * v + (0.5 * dt * dt) * s.Cv[q.acc_prev, i]
 
     @ti.func
     def predict(self, s: ti.template(), i, slot, dt):
@@ -135,6 +151,8 @@ class PredictorCorrector(Euler):
         s.Cv[q.position, i] = s.Sv[q.position, i]
         s.Cv[q.velocity, i] = s.Sv[q.velocity, i] + half * (rates.acc - s.Sv[q.acc_prev, i])
         s.Cv[q.acc_prev, i] = rates.acc
+        if ti.static(self.has_shift):
+            s.Cv[q.shift_prev, i] = rates.shift
         for k in ti.static(range(len(self.rows))):
             row = self.rows[k][0]
             new_rate = rates.d[self.rows[k][1]]
@@ -145,11 +163,11 @@ class PredictorCorrector(Euler):
 INTEGRATORS = {"euler": Euler, "eulermid": EulerMid, "eulermom": EulerMid, "pc": PredictorCorrector}
 
 
-def make(name: str, integrated):
+def make(name: str, integrated, has_shift=False):
     try:
         cls = INTEGRATORS[name]
     except KeyError:
         raise ValueError(
             f"unknown integrator {name!r}; choose one of euler, eulermid (alias eulermom), pc"
         ) from None
-    return cls(integrated)
+    return cls(integrated, has_shift)

@@ -63,6 +63,7 @@ class Scene:
     frames: int = 50
     description: str = ""
     eos: object = field(default_factory=Tait)
+    periodic: tuple = None  # per axis; the domain's extent is the period
     # per-particle data, filled by add_fluid/add_walls
     position: np.ndarray = None
     velocity: np.ndarray = None
@@ -70,6 +71,8 @@ class Scene:
     density: np.ndarray = None
     kind: np.ndarray = None
     material: np.ndarray = None
+    # initial values of further stored quantities (e.g. "energy"), name -> (N,) or (N, dim)
+    quantities: dict = field(default_factory=dict)
 
     def __post_init__(self):
         if self.dim not in (1, 2, 3):
@@ -84,11 +87,15 @@ class Scene:
         self.material = np.zeros(n, np.int32) if self.material is None else np.asarray(self.material, np.int32).ravel()
         lo, hi = self.domain
         self.domain = (np.asarray(lo, float).reshape(d), np.asarray(hi, float).reshape(d))
+        self.periodic = (False,) * d if self.periodic is None else tuple(bool(p) for p in self.periodic)
 
     # --- building -------------------------------------------------------------
-    def add_particles(self, position, kind="fluid", material=0, mass=None, density=None, velocity=None):
+    def add_particles(self, position, kind="fluid", material=0, mass=None, density=None, velocity=None,
+                      **quantities):
         """Append particles. `mass` defaults to rho0 dx^dim of their material,
-        `density` to rho0, `velocity` to zero. Returns the slice of the new ones."""
+        `density` to rho0, `velocity` to zero; further keyword arguments give initial
+        values of other stored quantities (e.g. ``energy=2.5``; zero for particles
+        added without them). Returns the slice of the new ones."""
         position = np.asarray(position, float).reshape(-1, self.dim)
         n = len(position)
         kind_code = KINDS[kind] if isinstance(kind, str) else int(kind)
@@ -103,6 +110,13 @@ class Scene:
         self.density = np.concatenate([self.density, density])
         self.kind = np.concatenate([self.kind, np.full(n, kind_code, np.int32)])
         self.material = np.concatenate([self.material, np.full(n, material, np.int32)])
+        for name in set(quantities) | set(self.quantities):
+            old = self.quantities.get(name)
+            new = quantities.get(name)
+            width = (old.shape[1:] if old is not None else np.shape(new)[1:] if np.ndim(new) == 2 else ())
+            old = np.zeros((start, *width)) if old is None else old
+            new = np.zeros((n, *width)) if new is None else np.broadcast_to(np.asarray(new, float), (n, *width))
+            self.quantities[name] = np.concatenate([old, new])
         return slice(start, start + n)
 
     def add_fluid(self, position, material=0, **kw):
@@ -203,6 +217,12 @@ class Scene:
         lo, hi = self.domain
         if np.any(hi <= lo):
             raise ValueError(f"scene {self.name!r}: domain {lo} .. {hi} is empty")
+        if len(self.periodic) != d:
+            raise ValueError(f"scene {self.name!r}: periodic needs {d} flags, got {self.periodic}")
+        for name, values in self.quantities.items():
+            values = np.asarray(values, float)
+            if len(values) != n or not np.all(np.isfinite(values)):
+                raise ValueError(f"scene {self.name!r}: quantity {name!r} needs {n} finite values")
         names = set()
         for t in self.terms:
             if not isinstance(t, Term):
@@ -220,6 +240,8 @@ class Scene:
             f"h = {self.smoothing_length:g} m ({self.kernel} kernel), integrator {self.integrator}",
             "  effects: " + ", ".join(t.describe() for t in self.terms),
         ]
+        if any(self.periodic):
+            lines.append("  periodic along " + ", ".join("xyz"[k] for k, p in enumerate(self.periodic) if p))
         return "\n".join(lines)
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import taichi as ti
 
 from . import runtime, solver as _solver
-from .grid import grid_shape
+from .grid import layout_grid
 from .layout import FLUID, WALL
 
 # Grids with more cells than this per particle are refused: the domain is too large
@@ -92,22 +92,20 @@ class Simulation:
 
     def _setup_grid(self):
         scene = self.scene
-        cell = scene.support_radius
+        support = scene.support_radius
         pos = self.scene.position if self._cells is None else self.positions()
-        finite = pos[np.all(np.isfinite(pos), axis=1)]
-        lo = np.minimum(scene.domain[0], finite.min(axis=0)) - cell
-        hi = np.maximum(scene.domain[1], finite.max(axis=0)) + cell
-        shape = grid_shape(lo, hi, cell)
+        lo, cell, shape = layout_grid(scene.domain, scene.periodic, support, pos)
         n_cells = int(np.prod(shape))
         if n_cells > MAX_CELLS_PER_PARTICLE * self.n + 4096:
             raise ValueError(
-                f"the neighbour grid would need {n_cells} cells of {cell:g} m for {self.n} particles "
-                f"(domain {lo} .. {hi}); the domain is too large for the smoothing length"
+                f"the neighbour grid would need {n_cells} cells of {support:g} m for {self.n} particles "
+                f"(domain {scene.domain[0]} .. {scene.domain[1]}); the domain is too large for the "
+                "smoothing length"
             )
         self.grid_lo, self.grid_cell, self.grid_shape = lo, cell, shape
         self._cells = tuple(ti.ndarray(ti.i32, k) for k in (n_cells, n_cells + 1, n_cells))
-        self._graph_args = None  # arrays changed: rebind the step graph
         self._cells[0].fill(0)
+        self._graph_args = None  # arrays changed: rebind the step graph
         g = np.zeros(4, np.int32)
         g[: self.dim] = shape
         g[self.dim : 3] = 1
@@ -129,23 +127,26 @@ class Simulation:
         ints[L.q.id] = np.arange(n)
         ints[L.q.material] = scene.material
         ints[L.q.kind] = scene.kind
+        for name, values in scene.quantities.items():
+            try:
+                kind = L.kind_of(name)
+            except KeyError:
+                raise ValueError(
+                    f"scene {scene.name!r} gives initial values of {name!r}, but none of its terms "
+                    f"stores it (stored: {', '.join(L.vectors + L.scalars)})"
+                ) from None
+            {"vector": vec, "scalar": sca, "integer": ints}[kind][getattr(L.q, name)] = values
         for arr, data in zip(self._C, (vec, sca, ints)):
             arr.from_numpy(data)
         self._setup_grid()
         self._upload_parameters()
 
     def _upload_parameters(self):
-        table = self.solver.param_table(self.scene)
-        self._setup_grid_params(table)
+        lo, hi = self.scene.domain
+        period = np.where(self.scene.periodic, hi - lo, 0.0)
+        table = self.solver.param_table(self.scene, self.grid_lo, self.grid_cell, period)
         self._params.from_numpy(table.astype(self.runtime.numpy_real))
         self._mat.from_numpy(self.solver.material_table(self.scene).astype(self.runtime.numpy_real))
-
-    def _setup_grid_params(self, table):
-        if getattr(self, "grid_lo", None) is None:
-            return
-        r = self.solver.param_rows
-        table[r["grid_lo"] : r["grid_lo"] + self.dim] = self.grid_lo
-        table[r["grid_inv_cell"]] = 1.0 / self.grid_cell
 
     def close(self):
         """Free the Taichi arrays now (they are also freed when the object is dropped)."""
@@ -216,10 +217,9 @@ class Simulation:
             self._graph_args["dt"] = dt
             self._graph.run(self._graph_args)
         else:
-            sort, force = self.solver.kernels(self._serial_sort)
             args = self._kernel_args()
-            sort(*args, dt)
-            force(*args, dt)
+            for kernel in self.solver.kernels(self._serial_sort):
+                kernel(*args, dt)
 
     def step(self, n: int = 1, dt: float | None = None):
         """Advance `n` steps of `dt` (default: the scene's dt)."""

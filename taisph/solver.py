@@ -1,43 +1,50 @@
 """The per-step Taichi kernels, assembled at compile time from a scene's terms.
 
-A step is two kernel launches (thread wake-ups are expensive: about 0.1-0.3 ms per
-parallel loop on the 2-core VMs we measure on, so passes are fused):
+A step is a short sequence of kernel launches, issued as one Taichi graph call
+(waking the CPU thread pool costs about 0.1-0.3 ms per parallel loop on the 2-core
+VMs we measure on, so work is fused into as few passes as possible):
 
-``sort``   cell index and count per particle, serial prefix sum over the cells, then
-           each particle's whole state is scattered to its cell-sorted slot. The
-           integrator's predictor and the equation of state run here, per particle.
-``force``  for every fluid particle: sum the enabled terms over its neighbours
-           (``ti.static`` loop over the terms), then the integrator's update writes
-           the new state. Wall particles are carried over (moving rigidly).
+``sort``    cell index and count per particle, serial prefix sum over the cells, then
+            each particle's whole state is scattered to its cell-sorted slot. The
+            integrator's predictor, periodic wrapping, the equation of state and the
+            terms' per-particle ``derive`` functions run here.
+``passes``  only if a term needs them: neighbour sums that must be complete before
+            the rates (e.g. wall pressure extrapolated from the fluid, summation
+            density), one launch each, in the order the terms list them.
+``force``   for every fluid particle: sum the enabled terms over its neighbours
+            (``ti.static`` loop over the terms), then the integrator's update writes
+            the new state. Wall particles are carried over (moving rigidly).
 
 State lives in two buffers of Taichi ndarrays (see :mod:`taisph.layout`): ``C``,
-the current state, and ``S``, the cell-sorted scratch copy that ``force`` reads.
+the current state, and ``S``, the cell-sorted scratch copy the later passes read.
 Kernels take ndarrays as arguments, so one compiled kernel serves simulations of
 every size; a :class:`Solver` is cached per compile-time configuration (dimension,
-precision, kernel, integrator, equation of state, terms and their options).
+precision, kernel, integrator, equation of state, terms and their options, periodic
+axes).
 """
 
-
 import collections
-import math
 
 import numpy as np
 import taichi as ti
 
 from . import integrators, runtime, smoothing
 from .grid import Grid
-from .layout import FLUID, Layout
+from .layout import FLUID, WALL, Layout
 
 Ctx = collections.namedtuple(
     "Ctx", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill params mat gshape"
 )
 
 # Below this many particles the sort pass runs serially: waking the thread pool
-# costs more than the work (measured, see docs/performance.md).
+# costs more than the work (measured, see docs/performance.md), and a serial
+# scatter keeps each cell's particles in a reproducible order.
 SERIAL_SORT_BELOW = 60_000
 
+SELECT = {"fluid": FLUID, "wall": WALL, "all": -1}
 
-class Config(collections.namedtuple("Config", "dim kernel integrator eos terms")):
+
+class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic")):
     """Everything that changes the compiled code (not parameter values)."""
 
 
@@ -48,6 +55,7 @@ def config_of(scene) -> Config:
         integrator=integrators.INTEGRATORS[scene.integrator].name,
         eos=scene.eos.compile_key(),
         terms=tuple(t.compile_key() for t in scene.terms),
+        periodic=tuple(bool(p) for p in scene.periodic),
     )
 
 
@@ -66,18 +74,60 @@ def get(scene) -> "Solver":
     return solver
 
 
+@ti.data_oriented
+class _ForceSum:
+    """Neighbour visitor of the force pass: kernel gradient once, then every pair term."""
+
+    def __init__(self, solver, pair_terms):
+        self.q = solver.layout.q
+        self.kern = solver.kernel
+        self.terms = pair_terms
+        self.p_inv_h = solver.param_rows["inv_h"]
+        self.p_grad_norm = solver.param_rows["grad_norm"]
+
+    @ti.func
+    def visit(self, s: ti.template(), i, j, rij, r2, rates: ti.template()):
+        r = ti.sqrt(r2)
+        grad = (s.params[self.p_grad_norm] * self.kern.g(r * s.params[self.p_inv_h])) * rij
+        for t in ti.static(self.terms):
+            t.pair(s, i, j, rij, r, grad, rates)
+
+
+@ti.data_oriented
+class _PassSum:
+    """Neighbour visitor of a pre-force pass: kernel value and gradient, then the pass."""
+
+    def __init__(self, solver, neighbour_pass):
+        self.q = solver.layout.q
+        self.kern = solver.kernel
+        self.p = neighbour_pass
+        self.p_inv_h = solver.param_rows["inv_h"]
+        self.p_w_norm = solver.param_rows["w_norm"]
+        self.p_grad_norm = solver.param_rows["grad_norm"]
+
+    @ti.func
+    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
+        r = ti.sqrt(r2)
+        q = r * s.params[self.p_inv_h]
+        w = s.params[self.p_w_norm] * self.kern.f(q)
+        grad = (s.params[self.p_grad_norm] * self.kern.g(q)) * rij
+        self.p.pair(s, i, j, rij, r, w, grad, acc)
+
+
 class Solver:
     def __init__(self, scene, rt: runtime.Runtime):
         self.dim = dim = scene.dim
         self.real = real = rt.real
         self.kernel = smoothing.make(scene.kernel, dim)
+        self.sigma = self.kernel.sigma(dim)
 
         # --- what is stored --------------------------------------------------
         integrated = []
         for t in scene.terms:
             integrated.extend(t.integrates.items())
         self.integrated = tuple(integrated)
-        integ = integrators.make(scene.integrator, self.integrated)
+        self.has_shift = any(t.has_shift for t in scene.terms)
+        integ = integrators.make(scene.integrator, self.integrated, self.has_shift)
         extra_v, extra_s = integ.quantities()
         vectors = list(extra_v)
         scalars = list(extra_s) + list(scene.eos.scalars)
@@ -87,14 +137,19 @@ class Solver:
             scalars += t.scalars
             integers += t.integers
         self.layout = layout = Layout(vectors, scalars, integers)
+        self.outputs = tuple(dict.fromkeys([*scene.eos.outputs, *(o for t in scene.terms for o in t.outputs)]))
 
         # --- runtime parameter table ----------------------------------------
-        rows = {"smoothing_length": 0, "grid_lo": 1, "grid_inv_cell": 1 + dim}
-        size = 2 + dim
+        rows = {}
+        size = 0
+        for name, width in (("smoothing_length", 1), ("inv_h", 1), ("w_norm", 1), ("grad_norm", 1),
+                            ("support2", 1), ("grid_lo", dim), ("grid_inv_cell", dim), ("period", dim)):
+            rows[name] = size
+            size += width
         for t in scene.terms:
             for name, default in t.params.items():
                 if name in rows:
-                    raise ValueError(f"parameter {name!r} is declared by two terms")
+                    raise ValueError(f"parameter {name!r} is declared twice (by {type(t).__name__})")
                 rows[name] = size
                 size += dim if default == "vector" else 1
         self.param_rows = rows
@@ -107,49 +162,65 @@ class Solver:
         rate_rows = collections.namedtuple("RateRows", [r for _, r in self.integrated] or ["none"])(
             *range(max(1, len(self.integrated)))
         )
-        self.terms = [t.bound(layout, rows, mcols, self.eos, rate_rows) for t in scene.terms]
+        self.terms = [t.bound(layout, rows, mcols, self.eos, rate_rows, self.kernel) for t in scene.terms]
+        self.passes = [p for t in self.terms for p in t.passes()]
         self.integrator = integ.bind(layout)
-        self.grid = Grid(dim, real, rows["grid_lo"], rows["grid_inv_cell"])
+        self.grid = Grid(dim, real, rows["grid_lo"], rows["grid_inv_cell"], rows["period"], scene.periodic)
         # rates.acc: dv/dt; rates.d[k]: rate of the k-th integrated scalar (a Taichi
-        # vector needs length >= 1, hence the max).
-        self.Rates = ti.types.struct(
-            acc=ti.types.vector(dim, real), d=ti.types.vector(max(1, len(self.integrated)), real)
-        )
+        # vector needs length >= 1, hence the max); rates.shift: a correction to the
+        # velocity that moves the particles (XSPH), only if a term provides one.
+        fields = dict(acc=ti.types.vector(dim, real), d=ti.types.vector(max(1, len(self.integrated)), real))
+        if self.has_shift:
+            fields["shift"] = ti.types.vector(dim, real)
+        self.Rates = ti.types.struct(**fields)
         self.vec = ti.types.vector(dim, real)
         self._kernels = {}
 
     # ------------------------------------------------------------------------
-    def param_table(self, scene) -> np.ndarray:
+    def param_table(self, scene, grid_lo, grid_cell, period) -> np.ndarray:
         """Runtime parameter values of `scene`, laid out as the kernels read them."""
+        r = self.param_rows
+        dim = self.dim
+        h = scene.smoothing_length
         table = np.zeros(self.n_params)
-        table[self.param_rows["smoothing_length"]] = scene.smoothing_length
+        table[r["smoothing_length"]] = h
+        table[r["inv_h"]] = 1.0 / h
+        table[r["w_norm"]] = self.sigma / h**dim
+        table[r["grad_norm"]] = self.sigma / h ** (dim + 2)
+        table[r["support2"]] = (self.kernel.support * h) ** 2
+        table[r["grid_lo"] : r["grid_lo"] + dim] = grid_lo
+        table[r["grid_inv_cell"] : r["grid_inv_cell"] + dim] = 1.0 / np.asarray(grid_cell)
+        table[r["period"] : r["period"] + dim] = period
         for t in scene.terms:
-            for name, value in t.param_values(self.dim).items():
-                r = self.param_rows[name]
-                table[r : r + len(value)] = value
+            for name, value in t.param_values(dim).items():
+                k = r[name]
+                table[k : k + len(value)] = value
         return table
 
     def material_table(self, scene) -> np.ndarray:
         return np.array([self.eos.material_row(m) for m in scene.materials], dtype=float)
 
     def kernels(self, serial_sort: bool):
+        """The kernels of one step, in order: sort, the passes, force."""
         key = ("step", serial_sort)
         if key not in self._kernels:
-            self._kernels[key] = (self._build_sort(serial_sort), self._build_force())
+            self._kernels[key] = (
+                self._build_sort(serial_sort),
+                *[self._build_pass(p) for p in self.passes],
+                self._build_force(),
+            )
         return self._kernels[key]
 
-    ARG_NAMES = ("Cv", "Cs", "Ci", "Sv", "Ss", "Si", "cell_of", "cell_count", "cell_start", "cell_fill",
-                 "params", "mat", "gshape")
+    ARG_NAMES = Ctx._fields
 
     def step_graph(self, serial_sort: bool, args):
-        """A Taichi graph running one step (sort, force) in a single call from Python.
+        """A Taichi graph running one step in a single call from Python.
 
         A plain kernel call costs about 13 us of Python argument handling per ndarray
-        argument (28 per step here); a graph binds them in C++. Returns None if the
+        argument (13 per kernel here); a graph binds them in C++. Returns None if the
         backend cannot build graphs (then the kernels are called directly)."""
         key = ("graph", serial_sort)
         if key not in self._kernels:
-            sort, force = self.kernels(serial_sort)
             G = ti.graph
             try:
                 symbols = []
@@ -158,8 +229,8 @@ class Solver:
                     symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=dtype, ndim=len(array.shape)))
                 dt = G.Arg(G.ArgKind.SCALAR, "dt", self.real)
                 builder = G.GraphBuilder()
-                builder.dispatch(sort, *symbols, dt)
-                builder.dispatch(force, *symbols, dt)
+                for kernel in self.kernels(serial_sort):
+                    builder.dispatch(kernel, *symbols, dt)
                 self._kernels[key] = builder.compile()
             except Exception:  # pragma: no cover - backend without graph support
                 self._kernels[key] = None
@@ -177,7 +248,7 @@ class Solver:
         if "pairs" not in self._kernels:
             self._kernels["pairs"] = self._build_pairs()
         count, fill = self._kernels["pairs"]
-        sort, _ = self.kernels(serial_sort=sim._serial_sort)
+        sort = self.kernels(serial_sort=sim._serial_sort)[0]
         args = sim._kernel_args()
         sort(*args, 0.0)  # sorts S by cell; dt = 0 leaves the state unchanged
         n = sim.n
@@ -227,7 +298,8 @@ class Solver:
             n = Cv.shape[1]
             ti.loop_config(serialize=serial)
             for i in range(n):
-                c = grid.linear(s, grid.coords(s, integ.predicted_position(s, i, dt)))
+                x = grid.wrap(s, integ.predicted_position(s, i, dt))
+                c = grid.linear(s, grid.coords(s, x))
                 cell_of[i] = c
                 ti.atomic_add(cell_count[c], 1)
             ti.loop_config(serialize=True)
@@ -249,66 +321,41 @@ class Solver:
                 for k in ti.static(range(ni)):
                     Si[k, slot] = Ci[k, i]
                 integ.predict(s, i, slot, dt)
+                if ti.static(grid.any_periodic):
+                    Sv[q.position, slot] = grid.wrap(s, Sv[q.position, slot])
                 eos.derive(s, slot)
                 for t in ti.static(derive_terms):
                     t.derive(s, slot)
 
         return sort
 
-    def _build_pairs(self):
+    def _build_pass(self, neighbour_pass):
         a = self._annotations()
         V, S, I, I1, R1 = a["V"], a["S"], a["I"], a["I1"], a["R1"]
-        real, dim = self.real, self.dim
+        real = self.real
         q = self.layout.q
-        grid = self.grid
-        support = self.kernel.support
-        p_h = self.param_rows["smoothing_length"]
-        PairOut = ti.types.ndarray(dtype=ti.i32, ndim=2)
-
-        @ti.func
-        def visit(s: ti.template(), i, out: ti.template(), offset, record: ti.template()):
-            support2 = (support * s.params[p_h]) ** 2
-            xi = s.Sv[q.position, i]
-            c = grid.coords(s, xi)
-            k = offset
-            for row in ti.static(range(3 ** (dim - 1))):
-                begin, end = grid.row_range(s, c, row)
-                for j in range(begin, end):
-                    if j != i and (xi - s.Sv[q.position, j]).norm_sqr() < support2:
-                        if ti.static(record):
-                            out[k, 0] = s.Si[q.id, i]
-                            out[k, 1] = s.Si[q.id, j]
-                        k += 1
-            return k - offset
+        grid, eos = self.grid, self.eos
+        derive_terms = [t for t in self.terms if t.has_derive]
+        visitor = _PassSum(self, neighbour_pass)
+        select = SELECT[neighbour_pass.select]
+        p_support2 = self.param_rows["support2"]
 
         @ti.kernel
-        def count(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, counts: I1):
+        def neighbour_pass_kernel(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
+                                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, dt: real):
             s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+            support2 = params[p_support2]
             for i in range(Sv.shape[1]):
-                counts[i] = visit(s, i, counts, 0, False)
+                if ti.static(select < 0) or Si[q.kind, i] == select:
+                    acc = neighbour_pass.init(s, i)
+                    grid.for_each_neighbour(s, i, Sv[q.position, i], support2, visitor, acc)
+                    neighbour_pass.finish(s, i, acc)
+                    if ti.static(neighbour_pass.rederive):
+                        eos.derive(s, i)
+                        for t in ti.static(derive_terms):
+                            t.derive(s, i)
 
-        @ti.kernel
-        def fill(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, offsets: I1, out: PairOut):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
-            for i in range(Sv.shape[1]):
-                visit(s, i, out, offsets[i], True)
-
-        return count, fill
-
-    def _build_pressure(self):
-        a = self._annotations()
-        V, S, I, R1 = a["V"], a["S"], a["I"], a["R1"]
-        q, eos = self.layout.q, self.eos
-
-        @ti.kernel
-        def pressure(Cv: V, Cs: S, Ci: I, params: R1, mat: S):
-            s = ti.static(Ctx(Cv, Cs, Ci, Cv, Cs, Ci, None, None, None, None, params, mat, None))
-            for i in range(Cs.shape[1]):
-                eos.derive(s, i)  # here s.S* are the current arrays C
-
-        return pressure
+        return neighbour_pass_kernel
 
     def _build_force(self):
         a = self._annotations()
@@ -316,24 +363,18 @@ class Solver:
         real, dim = self.real, self.dim
         q = self.layout.q
         nv, ns, ni = len(self.layout.vectors), len(self.layout.scalars), len(self.layout.integers)
-        grid, integ, kern = self.grid, self.integrator, self.kernel
-        pair_terms = [t for t in self.terms if t.has_pair]
+        grid, integ = self.grid, self.integrator
+        visitor = _ForceSum(self, [t for t in self.terms if t.has_pair])
         body_terms = [t for t in self.terms if t.has_body]
-        sigma = kern.sigma(dim)
-        support = kern.support
         Rates = self.Rates
-        p_h = self.param_rows["smoothing_length"]
+        p_support2 = self.param_rows["support2"]
 
         @ti.kernel
         def force(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
                   cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, dt: real):
             s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
-            n = Sv.shape[1]
-            h = params[p_h]
-            inv_h = 1.0 / h
-            grad_norm = sigma * inv_h ** (dim + 2)
-            support2 = (support * h) ** 2
-            for i in range(n):
+            support2 = params[p_support2]
+            for i in range(Sv.shape[1]):
                 for k in ti.static(range(nv)):
                     Cv[k, i] = Sv[k, i]
                 for k in ti.static(range(ns)):
@@ -341,23 +382,75 @@ class Solver:
                 for k in ti.static(range(ni)):
                     Ci[k, i] = Si[k, i]
                 if Si[q.kind, i] == FLUID:
-                    rates = Rates(acc=ti.Vector.zero(real, dim))  # zero-initialised
+                    rates = Rates(acc=ti.Vector.zero(real, dim))  # other members zero-initialised
                     for t in ti.static(body_terms):
                         t.body(s, i, rates)
-                    xi = Sv[q.position, i]
-                    c = grid.coords(s, xi)
-                    for row in ti.static(range(3 ** (dim - 1))):
-                        begin, end = grid.row_range(s, c, row)
-                        for j in range(begin, end):
-                            rij = xi - Sv[q.position, j]
-                            r2 = rij.norm_sqr()
-                            if r2 < support2 and j != i:
-                                r = ti.sqrt(r2)
-                                grad = (grad_norm * kern.g(r * inv_h)) * rij
-                                for t in ti.static(pair_terms):
-                                    t.pair(s, i, j, rij, r, grad, rates)
+                    grid.for_each_neighbour(s, i, Sv[q.position, i], support2, visitor, rates)
                     integ.update(s, i, rates, dt)
                 else:
                     integ.advance_wall(s, i, dt)
 
         return force
+
+    def _build_pairs(self):
+        a = self._annotations()
+        V, S, I, I1, R1 = a["V"], a["S"], a["I"], a["I1"], a["R1"]
+        q = self.layout.q
+        grid = self.grid
+        p_support2 = self.param_rows["support2"]
+        PairOut = ti.types.ndarray(dtype=ti.i32, ndim=2)
+
+        @ti.data_oriented
+        class Count:
+            def __init__(self, q):
+                self.q = q
+
+            @ti.func
+            def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
+                acc += 1
+
+        counter = Count(q)
+
+        @ti.kernel
+        def count(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
+                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, counts: I1):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+            for i in range(Sv.shape[1]):
+                k = 0
+                grid.for_each_neighbour(s, i, Sv[q.position, i], params[p_support2], counter, k)
+                counts[i] = k
+
+        @ti.kernel
+        def fill(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
+                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, offsets: I1, out: PairOut):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+            for i in range(Sv.shape[1]):
+                k = offsets[i]
+                c = grid.coords(s, Sv[q.position, i])
+                for r in ti.static(range(grid.n_ranges)):
+                    begin, end = grid.slot_range(s, c, r)
+                    for j in range(begin, end):
+                        rij = grid.separation(s, Sv[q.position, i], Sv[q.position, j])
+                        if j != i and rij.norm_sqr() < params[p_support2]:
+                            out[k, 0] = Si[q.id, i]
+                            out[k, 1] = Si[q.id, j]
+                            k += 1
+
+        return count, fill
+
+    def _build_pressure(self):
+        a = self._annotations()
+        V, S, I, R1 = a["V"], a["S"], a["I"], a["R1"]
+        eos = self.eos
+        derive_terms = [t for t in self.terms if t.has_derive]
+
+        @ti.kernel
+        def pressure(Cv: V, Cs: S, Ci: I, params: R1, mat: S):
+            # here the "sorted" arrays of the context are the current ones, C
+            s = ti.static(Ctx(Cv, Cs, Ci, Cv, Cs, Ci, None, None, None, None, params, mat, None))
+            for i in range(Cs.shape[1]):
+                eos.derive(s, i)
+                for t in ti.static(derive_terms):
+                    t.derive(s, i)
+
+        return pressure

@@ -9,7 +9,8 @@ Layout of an output folder::
 
 Points always have three coordinates (z = 0 in 2D). Point arrays: ``velocity``
 (3 components), ``pressure``, ``density``, ``mass``, ``id`` (persistent: data is
-reordered by cell every step), ``material``. The time of each frame is in the
+reordered by cell every step), ``material``, and any quantity the scene's terms list as an output (e.g. ``energy``).
+The time of each frame is in the
 ``.pvd`` only. Every file is written under a temporary name and renamed, and the
 index is rewritten after each frame, so an interrupted run leaves whole files and
 an index that opens.
@@ -86,7 +87,7 @@ class VTKWriter:
 
     @staticmethod
     def _arrays(sim, select):
-        return {
+        arrays = {
             "velocity": sim.velocities()[select],
             "pressure": sim.pressure()[select],
             "density": sim.density()[select],
@@ -94,6 +95,9 @@ class VTKWriter:
             "id": sim.ids()[select].astype(np.int32),
             "material": sim.materials()[select].astype(np.int32),
         }
+        for name in sim.solver.outputs:  # e.g. energy, when a term stores it
+            arrays[name] = sim.quantity(name)[select]
+        return arrays
 
     def write(self, sim) -> Path:
         fluid = sim.fluid

@@ -1,19 +1,24 @@
 """Physical terms, one per module. See :mod:`taisph.terms.base` for the contract."""
 
 from .artificial_viscosity import ArtificialViscosity
-from .base import Term
+from .base import NeighbourPass, Term
 from .continuity import Continuity
 from .gravity import Gravity
 from .lennard_jones import LennardJonesWall
 from .pressure_gradient import PressureGradient
+from .summation_density import SummationDensity
 from .tait import Tait
+from .xsph import XSPH
 
 __all__ = [
     "Term",
+    "NeighbourPass",
     "Gravity",
     "Continuity",
     "PressureGradient",
     "ArtificialViscosity",
     "LennardJonesWall",
     "Tait",
+    "SummationDensity",
+    "XSPH",
 ]

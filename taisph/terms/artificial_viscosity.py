@@ -32,14 +32,9 @@ class ArtificialViscosity(Term):
             vij = s.Sv[q.velocity, i] - s.Sv[q.velocity, j]
             vr = vij.dot(rij)
             if vr < 0.0:
-                h = s.params[self.p_h]
+                h = s.params[self.p_h]  # (p_h: set by Term.bound)
                 mu = h * vr / (r * r + s.params[self.p.eta_factor] * h * h)
                 c_ab = 0.5 * (self.eos.sound_speed(s, i) + self.eos.sound_speed(s, j))
                 rho_ab = 0.5 * (s.Ss[q.density, i] + s.Ss[q.density, j])
                 pi_ab = (-s.params[self.p.alpha] * c_ab * mu + s.params[self.p.beta] * mu * mu) / rho_ab
                 rates.acc -= s.Ss[q.mass, j] * pi_ab * grad
-
-    def bound(self, layout, param_rows, material_cols, eos, rate_rows):
-        t = super().bound(layout, param_rows, material_cols, eos, rate_rows)
-        t.p_h = param_rows["smoothing_length"]
-        return t

@@ -26,7 +26,15 @@ A term class declares:
 ``derive(s, i)``
     optional ``ti.func``, run for every particle after the equation of state when
     the state is gathered in cell order: per-particle quantities the pair sums
-    reuse (e.g. P / rho^2), stored in the term's own ``scalars``.
+    reuse (e.g. P / rho^2), stored in the term's own ``scalars``;
+``passes()``
+    optional: :class:`NeighbourPass` objects - neighbour sums that must be complete
+    before the rates are summed (wall pressure from the fluid, summation density);
+``has_shift``
+    the term adds ``rates.shift``, a velocity correction that moves particles but is
+    not their momentum (XSPH); the integrator advances positions with v + shift;
+``outputs``
+    quantities written to the ParaView frames besides the standard ones.
 
 Inside those functions ``s`` is the kernel context (sorted state ``s.Sv``, ``s.Ss``,
 ``s.Si``; parameters ``s.params``; material table ``s.mat``); ``self.q.<quantity>``,
@@ -34,13 +42,13 @@ Inside those functions ``s`` is the kernel context (sorted state ``s.Sv``, ``s.S
 set by :meth:`bind`.
 """
 
-from __future__ import annotations
 
 import copy
 import math
 import collections
 
 import numpy as np
+import taichi as ti
 
 
 class Term:
@@ -53,6 +61,8 @@ class Term:
     has_pair = False
     has_body = False
     has_derive = False
+    has_shift = False
+    outputs: tuple = ()
     # quantities a term reads from the material table (column names)
     options: dict = {}  # compile-time options: part of the kernel cache key
 
@@ -70,10 +80,14 @@ class Term:
     def compile_key(self):
         return (type(self).__module__, type(self).__qualname__, tuple(sorted(self.options.items())))
 
-    def bound(self, layout, param_rows, material_cols, eos, rate_rows):
+    def bound(self, layout, param_rows, material_cols, eos, rate_rows, kernel=None):
         """A copy of this term with compile-time row indices attached."""
         t = copy.copy(self)
         t.r = rate_rows
+        t.kernel = kernel
+        t.p_inv_h = param_rows.get("inv_h")
+        t.p_w_norm = param_rows.get("w_norm")
+        t.p_h = param_rows.get("smoothing_length")
         t.q = layout.q
         names = list(self.params) or ["none"]
         t.p = collections.namedtuple("ParamRows", names)(*[param_rows.get(k, -1) for k in names])
@@ -100,6 +114,15 @@ class Term:
             out[k] = arr
         return out
 
+    @ti.func
+    def w(self, s: ti.template(), r):
+        """The kernel value W(r, h), for terms that need it besides the gradient."""
+        return s.params[self.p_w_norm] * self.kernel.f(r * s.params[self.p_inv_h])
+
+    def passes(self) -> list:
+        """Neighbour passes this term needs before the force pass (bound copies)."""
+        return []
+
     def check(self, scene) -> None:
         """Raise ValueError if the term cannot work in `scene` (override)."""
 
@@ -114,3 +137,20 @@ def _fmt(v):
     if isinstance(v, float):
         return f"{v:.4g}" if math.isfinite(v) else str(v)
     return str(v)
+
+
+class NeighbourPass:
+    """A neighbour sum run after the gather and before the force pass.
+
+    ``select``: which particles it loops over ("fluid", "wall" or "all"). For each,
+    ``acc = init(s, i)``; ``pair(s, i, j, rij, r, w, grad, acc)`` for every neighbour
+    (w = W_ij, grad = grad_i W_ij); ``finish(s, i, acc)`` stores the result in the
+    sorted state (``s.Ss``...). With ``rederive`` the equation of state and the terms'
+    ``derive`` run again for that particle afterwards (e.g. after setting density).
+    Subclasses are ``@ti.data_oriented`` with ``ti.func`` methods; build them in the
+    owning term's :meth:`Term.passes`, which runs after binding, so ``self.q``,
+    ``self.p``... of the term are available to pass along.
+    """
+
+    select = "fluid"
+    rederive = False

@@ -18,6 +18,7 @@ class Tait:
     name = "tait"
     columns = ("rho0", "c0", "gamma", "B")  # per-material constants (material table)
     scalars = ("sound_speed",)  # per-particle quantities it stores
+    outputs = ()  # stored quantities worth writing to the frames
 
     def material_row(self, material) -> list:
         b = material.rho0 * material.c0**2 / material.gamma
