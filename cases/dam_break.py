@@ -60,7 +60,8 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         dim=dim,
         dx=dx,
         smoothing_length=h,
-        domain=(np.array(lo) - dx, np.array(tank_hi) + dx),
+        # open top: leave room above the tank for splashes before the guards call it an escape
+        domain=(np.array(lo) - dx, np.array(tank_hi) + dx + np.eye(dim)[up] * 0.5 * tank_height),
         materials=[water],
         terms=terms,
         kernel=kernel,

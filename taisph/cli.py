@@ -11,7 +11,8 @@ from pathlib import Path
 USAGE = """\
 python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
 python -m taisph CASE --help        the case's description and parameters
-python -m taisph list               list the built-in cases"""
+python -m taisph list               list the built-in cases
+python -m taisph resume DIR         continue a run from its checkpoint folder"""
 
 EPILOG = """\
 examples:
@@ -75,7 +76,7 @@ def build_parser(case: str | None = None) -> argparse.ArgumentParser:
     g = parser.add_argument_group("resolution and time")
     g.add_argument("--dx", type=float, help="particle spacing (m); sets the resolution")
     g.add_argument("--t-end", type=float, help="simulated end time (s)")
-    g.add_argument("--dt", type=float, help="time step (s); default: the case's stable step")
+    g.add_argument("--dt", type=float, help="fixed time step (s); default: adaptive (CFL, force and viscous limits)")
     g.add_argument("--frames", type=int, help="frames to write after the initial one (default: the case's)")
     g = parser.add_argument_group("numerics")
     g.add_argument("--integrator", choices=["euler", "eulermid", "eulermom", "pc"], help="time integrator")
@@ -83,6 +84,15 @@ def build_parser(case: str | None = None) -> argparse.ArgumentParser:
     g.add_argument("--precision", choices=["f32", "f64"], default="f64", help="float precision (default f64)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="set any case parameter (see CASE --help); repeatable")
+    g = parser.add_argument_group("guards and restarts")
+    g.add_argument("--max-density-error", type=float, default=0.2,
+                   help="stop when |rho/rho0 - 1| exceeds this fraction (0: off; default 0.2)")
+    g.add_argument("--remove-escaped", action="store_true",
+                   help="remove (and count) particles that leave the domain instead of stopping")
+    g.add_argument("--checkpoint-every", type=int, metavar="K",
+                   help="write a checkpoint to OUT/checkpoint every K frames (resume with 'resume OUT/checkpoint')")
+    g.add_argument("--deterministic", action="store_true",
+                   help="serial cell sort at every size: bit-for-bit reproducible runs and restarts")
     g = parser.add_argument_group("output and machine")
     g.add_argument("--out", type=Path, help="output folder (default: out/CASE)")
     g.add_argument("--no-output", action="store_true", help="write no frames (benchmarking)")
@@ -115,15 +125,26 @@ def main(argv=None) -> int:
     if command == "list":
         list_cases()
         return 0
+    if command == "resume":
+        return resume(argv[1:])
     cases = _cases()
     if command not in cases:
         print(f"taisph: unknown case or command {command!r}. Cases: {', '.join(cases)}; commands: list",
               file=sys.stderr)
         return 2
     args = build_parser(command).parse_args(argv)
+    return _guarded(run_case, command, args)
+
+
+def _guarded(func, *args) -> int:
+    from .simulation import SimulationError
+
     try:
-        return run_case(command, args)
-    except (ValueError, KeyError, TypeError) as err:
+        return func(*args)
+    except SimulationError as err:
+        print(f"taisph: {err}", file=sys.stderr)
+        return 3
+    except (ValueError, KeyError, TypeError, FileNotFoundError) as err:
         print(f"taisph: error: {err}", file=sys.stderr)
         return 2
 
@@ -157,10 +178,46 @@ def run_case(name: str, args) -> int:
     out = None if args.no_output else (args.out or Path("out") / name)
     print(scene.describe())
     start = time.perf_counter()
-    sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads)
-    print(f"  {sim.runtime.arch}, {sim.runtime.precision}, {sim.runtime.threads} thread(s); "
-          f"dt = {sim.dt:.3g} s; ready in {time.perf_counter() - start:.2f} s (kernel compilation included)")
-    summary = sim.run(args.t_end, frames=args.frames, out=out, progress=not args.no_progress)
+    sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads,
+                            max_density_error=args.max_density_error, remove_escaped=args.remove_escaped,
+                            deterministic=args.deterministic)
+    step = f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt else f"adaptive dt (first {sim.dt:.3g} s)"
+    print(f"  {sim.runtime.arch}, {sim.runtime.precision}, {sim.runtime.threads} thread(s); {step}; "
+          f"ready in {time.perf_counter() - start:.2f} s (kernel compilation included)")
+    summary = sim.run(args.t_end, frames=args.frames, out=out, progress=not args.no_progress,
+                      checkpoint_every=args.checkpoint_every)
     where = f"; open {Path(summary.out) / (scene.name + '.pvd')} in ParaView" if summary.out else ""
     print(f"done: {summary}{where}")
+    return 0
+
+
+def resume(argv) -> int:
+    parser = argparse.ArgumentParser(prog="python -m taisph resume",
+                                     description="Continue a run from a checkpoint folder written by "
+                                                 "--checkpoint-every (OUT/checkpoint).")
+    parser.add_argument("checkpoint", type=Path, help="checkpoint folder")
+    parser.add_argument("--threads", type=int, help="CPU threads (default: all cores)")
+    parser.add_argument("--no-progress", action="store_true")
+    args = parser.parse_args(argv)
+    return _guarded(_resume, args)
+
+
+def _resume(args) -> int:
+    from .simulation import Simulation
+    from .vtk import VTKWriter
+
+    if not (args.checkpoint / "meta.pickle").exists():
+        raise FileNotFoundError(f"{args.checkpoint} is not a checkpoint folder (no meta.pickle)")
+    sim = Simulation.from_checkpoint(args.checkpoint, threads=args.threads)
+    meta = sim.checkpoint_meta
+    print(f"resuming {sim.scene.name} at step {sim.steps}, t = {sim.time:.6g} s "
+          f"(to t = {meta['t_end']:.6g} s, {meta['frames_left']} frames left)")
+    if not meta["frames_left"]:
+        print("nothing left to do")
+        return 0
+    writer_state = meta["writer"]
+    out = meta["out"]
+    summary = sim.run(meta["t_end"], frames=meta["frames_left"], out=out, progress=not args.no_progress,
+                      checkpoint_every=1, _writer_state=writer_state)
+    print(f"done: {summary}")
     return 0

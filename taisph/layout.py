@@ -22,6 +22,7 @@ import collections
 
 FLUID = 0
 WALL = 1
+REMOVED = 2  # a fluid particle taken out of the simulation (left an open domain)
 KINDS = {"fluid": FLUID, "wall": WALL}
 
 BASE_VECTORS = ("position", "velocity")

@@ -1,21 +1,61 @@
 """A running simulation: the particle state of one scene, stepped by a cached solver."""
 
-from __future__ import annotations
-
 import math
+import os
+import pickle
+import shutil
 import time as _time
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 import taichi as ti
 
-from . import runtime, solver as _solver
+from . import runtime, solver as _solver, stepping
 from .grid import layout_grid
 from .layout import FLUID, WALL
 
 # Grids with more cells than this per particle are refused: the domain is too large
 # for the smoothing length (a typo in a unit, usually) and memory would explode.
 MAX_CELLS_PER_PARTICLE = 64
+CHECKPOINT_VERSION = 1
+
+
+class SimulationError(RuntimeError):
+    """A guard tripped (non-finite state, density error, particle out of the domain).
+
+    ``str(err)`` explains what happened, where, the likely cause and a remedy;
+    ``err.report`` holds the same as data, ``err.files`` the frames written."""
+
+    def __init__(self, message, report, files=()):
+        super().__init__(message)
+        self.report = report
+        self.files = list(files)
+
+
+@dataclass
+class Controls:
+    """Time-step and guard settings (runtime values; see :mod:`taisph.stepping`).
+
+    dt                 fixed time step (s); None: adaptive (the default)
+    dt_max             cap on the adaptive step (s)
+    courant            C in dt = C h / max(c + |v|)                 (0.25)
+    force_factor       C in dt = C sqrt(h / max |a|)                (0.25)
+    viscous_factor     C in dt = C h^2 / nu for physical viscosity  (0.125)
+    max_density_error  stop when |rho/rho0 - 1| exceeds this (0 disables)
+    remove_escaped     remove particles that leave the domain instead of stopping
+    deterministic      serial (stable) cell sort at every size: bit-reproducible runs
+    """
+
+    dt: float | None = None
+    dt_max: float = math.inf
+    courant: float = 0.25
+    force_factor: float = 0.25
+    viscous_factor: float = 0.125
+    max_density_error: float = 0.2
+    remove_escaped: bool = False
+    deterministic: bool = False
 
 
 @dataclass
@@ -29,6 +69,10 @@ class RunSummary:
     wall_time: float
     frames: int
     out: str | None
+    dt_min: float = float("nan")
+    dt_mean: float = float("nan")
+    dt_max: float = float("nan")
+    removed: int = 0
 
     @property
     def particle_steps_per_second(self) -> float:
@@ -37,11 +81,13 @@ class RunSummary:
 
     def __str__(self) -> str:
         out = f", output in {self.out}" if self.out else ""
+        removed = f", {self.removed} particles removed (left the domain)" if self.removed else ""
         return (
             f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
             f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "
             f"({self.particle_steps_per_second / 1e6:.2f} M fluid particle-steps/s), "
-            f"{self.frames} frames{out}"
+            f"dt min/mean/max {self.dt_min:.3g}/{self.dt_mean:.3g}/{self.dt_max:.3g} s, "
+            f"{self.frames} frames{removed}{out}"
         )
 
 
@@ -56,10 +102,13 @@ class Simulation:
     and ``threads`` select the Taichi runtime; they are process-wide (see
     :mod:`taisph.runtime`). Kernels are compiled once per configuration and shared
     by every simulation in the process; :meth:`set` changes parameters without
-    recompiling. :meth:`close` (or dropping the last reference) frees the arrays.
+    recompiling. Keyword ``controls`` (:class:`Controls` fields: ``dt``,
+    ``max_density_error``, ``remove_escaped``, ``deterministic``...) set the time
+    step and the guards; the scene's ``dt``, if set, is a fixed step.
+    :meth:`close` (or dropping the last reference) frees the arrays.
     """
 
-    def __init__(self, scene, arch: str | None = None, precision: str | None = None, threads: int | None = None):
+    def __init__(self, scene, arch=None, precision=None, threads=None, _restore=None, **controls):
         scene.validate()
         self.scene = scene
         self.runtime = runtime.init(arch, precision, threads)
@@ -67,15 +116,26 @@ class Simulation:
         self.dim = scene.dim
         self.n = scene.n
         self.n_fluid = scene.n_fluid
-        self.time = 0.0
-        self.steps = 0
-        self.dt = scene.dt if scene.dt is not None else scene.stable_dt()
-        self._serial_sort = self.n < _solver.SERIAL_SORT_BELOW
+        unknown = set(controls) - {f.name for f in fields(Controls)}
+        if unknown:
+            raise TypeError(f"unknown simulation option(s): {', '.join(sorted(unknown))}")
+        if "dt" not in controls:
+            controls["dt"] = scene.dt
+        self.controls = Controls(**controls)
+        self._serial_sort = self.n < _solver.SERIAL_SORT_BELOW or self.controls.deterministic
         self._graph_args = None
+        self._warned_dt = False
+        self._snapshot_key = None
+        self.time, self.steps, self._dt_last, self._dt_stable = 0.0, 0, 0.0, math.inf
         self._allocate()
-        self._upload(scene)
         runtime.register(self)
-        self._step_arrays(0.0)  # bootstrap: pressure and (for pc) the first rates
+        if _restore is not None:
+            self._restore(_restore)
+        else:
+            self._upload(scene)
+            self._reset_status()
+            self._advance_arrays(self.time)  # bootstrap (dt = 0): pressure, first rates, maxima
+        self._read_status()
 
     # --- memory ---------------------------------------------------------------
     def _allocate(self):
@@ -88,13 +148,18 @@ class Simulation:
         self._params = ti.ndarray(real, sv.n_params)
         self._mat = ti.ndarray(real, (len(self.scene.materials), len(sv.material_columns)))
         self._gshape = ti.ndarray(ti.i32, 4)
+        self._status = ti.ndarray(ti.f64, stepping.STATUS_SIZE)
+        self._flags = ti.ndarray(ti.i32, stepping.FLAGS_SIZE)
         self._cells = None
+        self._good = None  # device copy of the last state that passed the guards
 
-    def _setup_grid(self):
+    def _setup_grid(self, grid=None):
         scene = self.scene
         support = scene.support_radius
-        pos = self.scene.position if self._cells is None else self.positions()
-        lo, cell, shape = layout_grid(scene.domain, scene.periodic, support, pos)
+        if grid is None:
+            pos = scene.position if self._cells is None else self.positions()
+            grid = layout_grid(scene.domain, scene.periodic, support, pos)
+        lo, cell, shape = grid
         n_cells = int(np.prod(shape))
         if n_cells > MAX_CELLS_PER_PARTICLE * self.n + 4096:
             raise ValueError(
@@ -102,7 +167,7 @@ class Simulation:
                 f"(domain {scene.domain[0]} .. {scene.domain[1]}); the domain is too large for the "
                 "smoothing length"
             )
-        self.grid_lo, self.grid_cell, self.grid_shape = lo, cell, shape
+        self.grid_lo, self.grid_cell, self.grid_shape = np.asarray(lo), np.asarray(cell), tuple(shape)
         self._cells = tuple(ti.ndarray(ti.i32, k) for k in (n_cells, n_cells + 1, n_cells))
         self._cells[0].fill(0)
         self._graph_args = None  # arrays changed: rebind the step graph
@@ -141,19 +206,46 @@ class Simulation:
         self._setup_grid()
         self._upload_parameters()
 
-    def _upload_parameters(self):
+    def _control_values(self, dt=None) -> dict:
+        c = self.controls
+        scene = self.scene
+        fixed = c.dt if dt is None else dt
+        lo, hi = scene.domain
+        margin = scene.support_radius
+        nu = max([getattr(t, "viscosity", lambda: 0.0)() for t in scene.terms] + [0.0])
+        h = scene.smoothing_length
+        return dict(
+            dt_fixed=0.0 if fixed is None else float(fixed),
+            dt_max=min(c.dt_max, 1e300),
+            courant=c.courant,
+            force_factor=c.force_factor,
+            dt_viscous=c.viscous_factor * h * h / nu if nu > 0 else 1e300,
+            max_density_error=c.max_density_error,
+            remove_escaped=1.0 if c.remove_escaped else 0.0,
+            guard_lo=lo - margin,
+            guard_hi=hi + margin,
+        )
+
+    def _upload_parameters(self, dt=None):
+        self._snapshot_key = None  # e.g. a new c0 changes the pressure of the same state
         lo, hi = self.scene.domain
         period = np.where(self.scene.periodic, hi - lo, 0.0)
-        table = self.solver.param_table(self.scene, self.grid_lo, self.grid_cell, period)
+        table = self.solver.param_table(self.scene, self.grid_lo, self.grid_cell, period, self._control_values(dt))
         self._params.from_numpy(table.astype(self.runtime.numpy_real))
         self._mat.from_numpy(self.solver.material_table(self.scene).astype(self.runtime.numpy_real))
+
+    def _reset_status(self):
+        status = np.zeros(stepping.STATUS_SIZE)
+        status[stepping.DT_MIN] = status[stepping.DT_STABLE_MIN] = np.inf
+        self._status.from_numpy(status)
+        self._flags.from_numpy(np.zeros(stepping.FLAGS_SIZE, np.int32))
 
     def close(self):
         """Free the Taichi arrays now (they are also freed when the object is dropped)."""
         if getattr(self, "_C", None) is not None and runtime._current is self.runtime:
-            for array in (*self._C, *self._S):
+            for array in (*self._C, *self._S, *(self._good or ())):
                 runtime.free_ndarray(array)
-        self._C = self._S = self._cells = None
+        self._C = self._S = self._cells = self._good = None
         self._cell_of = self._params = self._mat = self._gshape = None
         self._graph_args = None
         runtime.unregister(self)
@@ -172,6 +264,7 @@ class Simulation:
     def set(self, **values):
         """Change runtime parameters, e.g. ``sim.set(alpha=0.05, gravity=(0, -1))``.
 
+        Also accepts :class:`Controls` fields (``dt``, ``max_density_error``...).
         Material constants are set per material: ``sim.set(c0=40.0)`` changes every
         material, ``sim.set_material(1, rho0=500.0)`` one. No kernel is recompiled.
         """
@@ -180,16 +273,20 @@ class Simulation:
             for k in t.params:
                 by_param[k] = t
         material_keys = {"rho0", "c0", "gamma"}
+        control_keys = {f.name for f in fields(Controls)} - {"deterministic"}
         for key, value in values.items():
             if key == "smoothing_length":
                 self.scene.smoothing_length = float(value)
             elif key in material_keys:
                 for m in self.scene.materials:
                     setattr(m, key, float(value))
+            elif key in control_keys:
+                setattr(self.controls, key, value)
             elif key in by_param:
                 by_param[key].values[key] = value
             else:
-                raise KeyError(f"no parameter {key!r}; parameters: {', '.join(sorted(self.parameters()))}")
+                names = sorted(set(self.parameters()) | control_keys)
+                raise KeyError(f"no parameter {key!r}; parameters: {', '.join(names)}")
         self.scene.validate()
         if "smoothing_length" in values:
             self._setup_grid()
@@ -206,89 +303,255 @@ class Simulation:
 
     # --- stepping -----------------------------------------------------------------
     def _kernel_args(self):
-        return (*self._C, *self._S, self._cell_of, *self._cells, self._params, self._mat, self._gshape)
+        return (*self._C, *self._S, self._cell_of, *self._cells, self._params, self._mat, self._gshape,
+                self._status, self._flags)
 
-    def _step_arrays(self, dt: float):
+    def _advance_arrays(self, t_target: float):
+        """One step towards `t_target` (its dt is chosen on the device)."""
         if self._graph_args is None:
             args = self._kernel_args()
             self._graph = self.solver.step_graph(self._serial_sort, args)
             self._graph_args = dict(zip(self.solver.ARG_NAMES, args))
         if self._graph is not None:
-            self._graph_args["dt"] = dt
+            self._graph_args["t_target"] = float(t_target)
             self._graph.run(self._graph_args)
         else:
             args = self._kernel_args()
             for kernel in self.solver.kernels(self._serial_sort):
-                kernel(*args, dt)
+                kernel(*args, float(t_target))
+
+    def _read_status(self):
+        """Refresh the host's copy of time, step count, dt and guard flags."""
+        read = self._status.arr.read_float
+        self.time = read([stepping.TIME])
+        self.steps = int(read([stepping.STEPS]))
+        self._dt_last = read([stepping.DT])
+        self._dt_stable = read([stepping.DT_STABLE])
+        self._fail_codes = self._flags.arr.read_int([stepping.CODES])
+
+    @property
+    def dt(self) -> float:
+        """The fixed time step, or the current adaptive one."""
+        if self.controls.dt is not None:
+            return self.controls.dt
+        return self._dt_last if self._dt_last > 0 else min(self._dt_stable, self.controls.dt_max)
+
+    def _advance(self, t_target: float, max_steps: int | None = None, progress=None, steps0: int = 0) -> None:
+        """Step until the clock reaches `t_target` (or `max_steps` steps are done),
+        checking the guards every batch of steps."""
+        done = 0
+        batch = 1
+        while True:
+            remaining = t_target - self.time
+            if max_steps is not None and done >= max_steps:
+                return
+            if math.isfinite(t_target) and remaining <= 1e-12 * max(1.0, abs(t_target)):
+                return
+            estimate = math.ceil(remaining / max(self.dt, 1e-300)) if math.isfinite(remaining) else batch
+            n = max(1, min(batch, estimate, (max_steps - done) if max_steps is not None else batch))
+            self._keep_good_state()
+            start = _time.perf_counter()
+            for _ in range(n):
+                self._advance_arrays(t_target)
+            self._read_status()
+            done += n
+            if self._fail_codes:
+                self._fail()
+            self._warn_if_dt_unstable()
+            if progress is not None:
+                progress.update(self.time, self.steps - steps0)
+            # batches of ~50 ms between checks, at most 64 steps
+            elapsed = _time.perf_counter() - start
+            batch = max(1, min(64, int(n * 0.05 / max(elapsed, 1e-6))))
 
     def step(self, n: int = 1, dt: float | None = None):
-        """Advance `n` steps of `dt` (default: the scene's dt)."""
-        dt = self.dt if dt is None else dt
-        for _ in range(n):
-            self._step_arrays(dt)
-            self.time += dt
-            self.steps += 1
+        """Advance `n` steps: of `dt` if given, else of the fixed or adaptive step."""
+        if dt is not None:
+            self._upload_parameters(dt=dt)
+        try:
+            self._advance(math.inf, max_steps=n)
+        finally:
+            if dt is not None:
+                self._upload_parameters()
 
-    def run(self, t_end: float | None = None, frames: int | None = None, out=None, progress: bool = False,
-            dt: float | None = None, callback=None) -> RunSummary:
-        """Advance to `t_end` (default: the scene's), writing `frames` VTK frames
-        (plus the initial one, when starting from t = 0) to the folder `out`.
+    def _warn_if_dt_unstable(self):
+        if self.controls.dt is None or self._warned_dt:
+            return
+        limit = self._status.arr.read_float([stepping.DT_STABLE_MIN])
+        if self.controls.dt > limit:
+            self._warned_dt = True
+            warnings.warn(
+                f"fixed dt = {self.controls.dt:.3g} s is above the stability limit {limit:.3g} s "
+                f"(CFL {self.controls.courant} h/(c+|v|), force {self.controls.force_factor} sqrt(h/|a|)); "
+                "expect a blow-up, or leave dt unset for the adaptive step",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+
+    def run(self, t_end=None, frames=None, out=None, progress=False, callback=None,
+            checkpoint_every: int | None = None, _writer_state=None) -> RunSummary:
+        """Advance to `t_end` (default: the scene's), writing `frames` VTK frames (plus
+        the initial one, when starting from t = 0) to the folder `out`.
 
         Steps are shortened where needed so that frames land exactly on
-        ``t_end * k / frames``. `callback(sim)` is called after every frame.
+        ``t0 + (t_end - t0) k / frames``. `callback(sim)` is called after every frame;
+        with `checkpoint_every` = k a checkpoint is written to ``out/checkpoint``
+        every k frames (:meth:`save_checkpoint`). A tripped guard raises
+        :class:`SimulationError` after writing the last good state and the offending
+        particles to `out`.
         """
         from .progress import Progress
         from .vtk import VTKWriter
 
         t_end = self.scene.t_end if t_end is None else float(t_end)
-        dt = self.dt if dt is None else float(dt)
         frames = self.scene.frames if frames is None else int(frames)
         if frames < 1:
             raise ValueError("frames must be at least 1")
         t0 = self.time
         frame_times = [t0 + (t_end - t0) * (k + 1) / frames for k in range(frames)]
-        writer = VTKWriter(out, self) if out is not None else None
+        self._out = Path(out) if out is not None else None
+        writer = VTKWriter(out, self, resume=_writer_state) if out is not None else None
         written = 0
         if writer is not None and self.steps == 0:
             writer.write(self)
             written += 1
+        self._run_stats_start()
         steps0 = self.steps
         start = _time.perf_counter()
-        eps = 1e-9 * dt
         with Progress(t0, t_end, enabled=progress) as bar:
-            for t_frame in frame_times:
-                while self.time < t_frame - eps:
-                    h = min(dt, t_frame - self.time)
-                    # avoid a sliver of a step before the frame: split the last two evenly
-                    if dt < t_frame - self.time < 1.5 * dt:
-                        h = 0.5 * (t_frame - self.time)
-                    self._step_arrays(h)
-                    self.time += h
-                    self.steps += 1
-                    bar.update(self.time, self.steps - steps0)
-                self.time = t_frame
+            for k, t_frame in enumerate(frame_times):
+                self._advance(t_frame, progress=bar, steps0=steps0)
                 bar.update(self.time, self.steps - steps0, force=True)
                 if writer is not None:
                     writer.write(self)
                     written += 1
                 if callback is not None:
                     callback(self)
+                if checkpoint_every and out is not None and (k + 1) % checkpoint_every == 0:
+                    self.save_checkpoint(Path(out) / "checkpoint", t_end=t_end, frames_left=frames - k - 1,
+                                         writer=writer)
         ti.sync()
         wall = _time.perf_counter() - start
+        dt_min, dt_mean, dt_max = self._run_stats_end(self.steps - steps0)
         return RunSummary(self.n, self.n_fluid, self.steps - steps0, self.time, wall, written,
-                          str(writer.folder) if writer else None)
+                          str(writer.folder) if writer else None, dt_min, dt_mean, dt_max,
+                          self._flags.arr.read_int([stepping.REMOVED_COUNT]))
+
+    def _run_stats_start(self):
+        self._status.arr.write_float([stepping.DT_MIN], math.inf)
+        self._status.arr.write_float([stepping.DT_MAX], 0.0)
+        self._dt_sum0 = self._status.arr.read_float([stepping.DT_SUM])
+
+    def _run_stats_end(self, steps):
+        read = self._status.arr.read_float
+        if steps == 0:
+            return (float("nan"),) * 3
+        return read([stepping.DT_MIN]), (read([stepping.DT_SUM]) - self._dt_sum0) / steps, read([stepping.DT_MAX])
+
+    # --- guards -------------------------------------------------------------------
+    def _keep_good_state(self):
+        """Copy the current state aside (device to device) before a batch of steps."""
+        if self._good is None:
+            self._good = tuple(ti.ndarray(a.dtype if i else self.solver.vec, a.shape) for i, a in enumerate(self._C))
+        for good, current in zip(self._good, self._C):
+            good.copy_from(current)
+        self._good_time, self._good_steps = self.time, self.steps
+        self._good_dt_stable = self._status.arr.read_float([stepping.DT_STABLE_MIN])
+
+    def _fail(self):
+        from . import diagnosis
+
+        report = diagnosis.collect(self)
+        files = []
+        folder = getattr(self, "_out", None) or Path(".")
+        try:
+            files = diagnosis.write_evidence(self, report, folder)
+        finally:
+            message = diagnosis.explain(self, report, files)
+        raise SimulationError(message, report, files)
+
+    # --- checkpoints ----------------------------------------------------------------
+    def save_checkpoint(self, folder, t_end=None, frames_left=None, writer=None) -> Path:
+        """Write the complete state to `folder`, atomically (a temporary folder renamed
+        over the old one): every particle array in its current memory order, the
+        device clock and dt history, the guard flags, the grid, the scene (terms,
+        parameters, materials) and the controls. :meth:`from_checkpoint` resumes it."""
+        folder = Path(folder)
+        tmp = folder.with_name(folder.name + ".tmp")
+        if tmp.exists():
+            shutil.rmtree(tmp)
+        tmp.mkdir(parents=True)
+        arrays = {f"C{k}": a.to_numpy() for k, a in enumerate(self._C)}
+        arrays["status"] = self._status.to_numpy()
+        arrays["flags"] = self._flags.to_numpy()
+        np.savez(tmp / "state.npz", **arrays)
+        meta = dict(
+            version=CHECKPOINT_VERSION,
+            scene=self.scene,
+            controls=self.controls,
+            runtime=(self.runtime.arch, self.runtime.precision),
+            grid=(self.grid_lo, self.grid_cell, self.grid_shape),
+            serial_sort=self._serial_sort,
+            t_end=t_end,
+            frames_left=frames_left,
+            out=str(writer.folder) if writer is not None else None,
+            writer=(writer.frame, writer.entries) if writer is not None else None,
+        )
+        with open(tmp / "meta.pickle", "wb") as f:
+            pickle.dump(meta, f)
+        if folder.exists():
+            old = folder.with_name(folder.name + ".old")
+            if old.exists():
+                shutil.rmtree(old)
+            os.replace(folder, old)
+            os.replace(tmp, folder)
+            shutil.rmtree(old)
+        else:
+            os.replace(tmp, folder)
+        return folder
+
+    @classmethod
+    def from_checkpoint(cls, folder, arch=None, threads=None) -> "Simulation":
+        """A simulation continuing exactly where :meth:`save_checkpoint` stopped."""
+        folder = Path(folder)
+        with open(folder / "meta.pickle", "rb") as f:
+            meta = pickle.load(f)
+        if meta.get("version") != CHECKPOINT_VERSION:
+            raise ValueError(f"{folder}: checkpoint version {meta.get('version')}, expected {CHECKPOINT_VERSION}")
+        saved_arch, precision = meta["runtime"]
+        controls = {f.name: getattr(meta["controls"], f.name) for f in fields(Controls)}
+        sim = cls(meta["scene"], arch=arch or saved_arch, precision=precision, threads=threads,
+                  _restore=(folder, meta), **controls)
+        sim.checkpoint_meta = meta
+        return sim
+
+    def _restore(self, restore):
+        folder, meta = restore
+        data = np.load(folder / "state.npz")
+        for k, arr in enumerate(self._C):
+            arr.from_numpy(data[f"C{k}"])
+        self._serial_sort = meta["serial_sort"]
+        self._setup_grid(meta["grid"])
+        self._upload_parameters()
+        self._status.from_numpy(data["status"])
+        self._flags.from_numpy(data["flags"])
 
     # --- state as numpy, in particle-id order ------------------------------------
     def _arrays(self):
         """All stored quantities as numpy, in particle-id order (cached per step)."""
         key = (self.steps, self.time)
-        if getattr(self, "_snapshot_key", None) != key:
-            self.solver.update_pressure(*self._C, self._params, self._mat)
-            vec, sca, ints = (a.to_numpy() for a in self._C)
-            order = np.argsort(ints[self.solver.layout.q.id], kind="stable")
-            self._snapshot = (vec[:, order].astype(float), sca[:, order].astype(float), ints[:, order])
+        if self._snapshot_key != key:
+            self._snapshot = self._to_numpy(self._C)
             self._snapshot_key = key
         return self._snapshot
+
+    def _to_numpy(self, buffers):
+        """(vectors, scalars, integers) of a state buffer in particle-id order, with
+        the pressure recomputed from density by the equation of state."""
+        self.solver.update_pressure(*buffers, self._params, self._mat)
+        vec, sca, ints = (a.to_numpy() for a in buffers)
+        order = np.argsort(ints[self.solver.layout.q.id], kind="stable")
+        return vec[:, order].astype(float), sca[:, order].astype(float), ints[:, order]
 
     def _vector(self, name):
         return self._arrays()[0][getattr(self.solver.layout.q, name)].copy()
@@ -337,12 +600,12 @@ class Simulation:
 
     @property
     def fluid(self) -> np.ndarray:
-        """Boolean mask of fluid particles, in particle-id order."""
-        return self.scene.kind == FLUID
+        """Boolean mask of (active) fluid particles, in particle-id order."""
+        return self.kinds() == FLUID
 
     @property
     def wall(self) -> np.ndarray:
-        return self.scene.kind == WALL
+        return self.kinds() == WALL
 
     def total_mass(self) -> float:
         return float(self.masses()[self.fluid].sum())

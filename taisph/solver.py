@@ -28,12 +28,12 @@ import collections
 import numpy as np
 import taichi as ti
 
-from . import integrators, runtime, smoothing
+from . import integrators, runtime, smoothing, stepping
 from .grid import Grid
 from .layout import FLUID, WALL, Layout
 
 Ctx = collections.namedtuple(
-    "Ctx", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill params mat gshape"
+    "Ctx", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill params mat gshape status flags"
 )
 
 # Below this many particles the sort pass runs serially: waking the thread pool
@@ -146,6 +146,9 @@ class Solver:
                             ("support2", 1), ("grid_lo", dim), ("grid_inv_cell", dim), ("period", dim)):
             rows[name] = size
             size += width
+        for name, width in stepping.PARAMS:
+            rows[name] = size
+            size += dim if width == "dim" else width
         for t in scene.terms:
             for name, default in t.params.items():
                 if name in rows:
@@ -166,6 +169,7 @@ class Solver:
         self.passes = [p for t in self.terms for p in t.passes()]
         self.integrator = integ.bind(layout)
         self.grid = Grid(dim, real, rows["grid_lo"], rows["grid_inv_cell"], rows["period"], scene.periodic)
+        self.stepping = stepping.Stepping(dim, real, layout, rows, self.eos, scene.periodic)
         # rates.acc: dv/dt; rates.d[k]: rate of the k-th integrated scalar (a Taichi
         # vector needs length >= 1, hence the max); rates.shift: a correction to the
         # velocity that moves the particles (XSPH), only if a term provides one.
@@ -177,8 +181,9 @@ class Solver:
         self._kernels = {}
 
     # ------------------------------------------------------------------------
-    def param_table(self, scene, grid_lo, grid_cell, period) -> np.ndarray:
-        """Runtime parameter values of `scene`, laid out as the kernels read them."""
+    def param_table(self, scene, grid_lo, grid_cell, period, controls) -> np.ndarray:
+        """Runtime parameter values of `scene`, laid out as the kernels read them;
+        `controls` holds the time-step and guard settings (:mod:`taisph.stepping`)."""
         r = self.param_rows
         dim = self.dim
         h = scene.smoothing_length
@@ -191,6 +196,9 @@ class Solver:
         table[r["grid_lo"] : r["grid_lo"] + dim] = grid_lo
         table[r["grid_inv_cell"] : r["grid_inv_cell"] + dim] = 1.0 / np.asarray(grid_cell)
         table[r["period"] : r["period"] + dim] = period
+        for name, value in controls.items():
+            value = np.atleast_1d(value)
+            table[r[name] : r[name] + len(value)] = value
         for t in scene.terms:
             for name, value in t.param_values(dim).items():
                 k = r[name]
@@ -227,10 +235,10 @@ class Solver:
                 for name, array in zip(self.ARG_NAMES, args):
                     dtype = self.vec if name in ("Cv", "Sv") else array.dtype
                     symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=dtype, ndim=len(array.shape)))
-                dt = G.Arg(G.ArgKind.SCALAR, "dt", self.real)
+                t_target = G.Arg(G.ArgKind.SCALAR, "t_target", ti.f64)
                 builder = G.GraphBuilder()
                 for kernel in self.kernels(serial_sort):
-                    builder.dispatch(kernel, *symbols, dt)
+                    builder.dispatch(kernel, *symbols, t_target)
                 self._kernels[key] = builder.compile()
             except Exception:  # pragma: no cover - backend without graph support
                 self._kernels[key] = None
@@ -250,7 +258,7 @@ class Solver:
         count, fill = self._kernels["pairs"]
         sort = self.kernels(serial_sort=sim._serial_sort)[0]
         args = sim._kernel_args()
-        sort(*args, 0.0)  # sorts S by cell; dt = 0 leaves the state unchanged
+        sort(*args, sim.time)  # sorts S by cell; a target time of now gives dt = 0
         n = sim.n
         counts = ti.ndarray(ti.i32, n)
         count(*args, counts)
@@ -273,6 +281,7 @@ class Solver:
 
     # ------------------------------------------------------------------------
     def _annotations(self):
+        """Kernel argument types; F1 is the f64 status array (time must not be f32)."""
         real = self.real
         return dict(
             V=ti.types.ndarray(dtype=self.vec, ndim=2),
@@ -280,6 +289,7 @@ class Solver:
             I=ti.types.ndarray(dtype=ti.i32, ndim=2),
             I1=ti.types.ndarray(dtype=ti.i32, ndim=1),
             R1=ti.types.ndarray(dtype=real, ndim=1),
+            F1=ti.types.ndarray(dtype=ti.f64, ndim=1),
         )
 
     def _build_sort(self, serial: bool):
@@ -288,14 +298,19 @@ class Solver:
         real = self.real
         q = self.layout.q
         nv, ns, ni = len(self.layout.vectors), len(self.layout.scalars), len(self.layout.integers)
-        grid, integ, eos = self.grid, self.integrator, self.eos
+        grid, integ, eos, steps = self.grid, self.integrator, self.eos, self.stepping
         derive_terms = [t for t in self.terms if t.has_derive]
+        F1 = a["F1"]
 
         @ti.kernel
         def sort(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, dt: real):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, t_target: ti.f64):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
             n = Cv.shape[1]
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                steps.begin_step(s, t_target)
+            dt = ti.cast(status[stepping.DT], real)
             ti.loop_config(serialize=serial)
             for i in range(n):
                 x = grid.wrap(s, integ.predicted_position(s, i, dt))
@@ -337,13 +352,14 @@ class Solver:
         grid, eos = self.grid, self.eos
         derive_terms = [t for t in self.terms if t.has_derive]
         visitor = _PassSum(self, neighbour_pass)
+        F1 = a["F1"]
         select = SELECT[neighbour_pass.select]
         p_support2 = self.param_rows["support2"]
 
         @ti.kernel
         def neighbour_pass_kernel(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, dt: real):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+                                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, t_target: ti.f64):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
             support2 = params[p_support2]
             for i in range(Sv.shape[1]):
                 if ti.static(select < 0) or Si[q.kind, i] == select:
@@ -365,15 +381,18 @@ class Solver:
         nv, ns, ni = len(self.layout.vectors), len(self.layout.scalars), len(self.layout.integers)
         grid, integ = self.grid, self.integrator
         visitor = _ForceSum(self, [t for t in self.terms if t.has_pair])
+        steps = self.stepping
+        F1 = a["F1"]
         body_terms = [t for t in self.terms if t.has_body]
         Rates = self.Rates
         p_support2 = self.param_rows["support2"]
 
         @ti.kernel
         def force(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, dt: real):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, t_target: ti.f64):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
             support2 = params[p_support2]
+            dt = ti.cast(status[stepping.DT], real)
             for i in range(Sv.shape[1]):
                 for k in ti.static(range(nv)):
                     Cv[k, i] = Sv[k, i]
@@ -387,8 +406,10 @@ class Solver:
                         t.body(s, i, rates)
                     grid.for_each_neighbour(s, i, Sv[q.position, i], support2, visitor, rates)
                     integ.update(s, i, rates, dt)
-                else:
+                    steps.track(s, i, rates)
+                elif Si[q.kind, i] == WALL:
                     integ.advance_wall(s, i, dt)
+                # removed particles: carried over unchanged
 
         return force
 
@@ -399,6 +420,7 @@ class Solver:
         grid = self.grid
         p_support2 = self.param_rows["support2"]
         PairOut = ti.types.ndarray(dtype=ti.i32, ndim=2)
+        F1 = a["F1"]
 
         @ti.data_oriented
         class Count:
@@ -413,8 +435,8 @@ class Solver:
 
         @ti.kernel
         def count(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, counts: I1):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, counts: I1):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
             for i in range(Sv.shape[1]):
                 k = 0
                 grid.for_each_neighbour(s, i, Sv[q.position, i], params[p_support2], counter, k)
@@ -422,8 +444,8 @@ class Solver:
 
         @ti.kernel
         def fill(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, offsets: I1, out: PairOut):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape))
+                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, offsets: I1, out: PairOut):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
             for i in range(Sv.shape[1]):
                 k = offsets[i]
                 c = grid.coords(s, Sv[q.position, i])
@@ -447,7 +469,7 @@ class Solver:
         @ti.kernel
         def pressure(Cv: V, Cs: S, Ci: I, params: R1, mat: S):
             # here the "sorted" arrays of the context are the current ones, C
-            s = ti.static(Ctx(Cv, Cs, Ci, Cv, Cs, Ci, None, None, None, None, params, mat, None))
+            s = ti.static(Ctx(Cv, Cs, Ci, Cv, Cs, Ci, None, None, None, None, params, mat, None, None, None))
             for i in range(Cs.shape[1]):
                 eos.derive(s, i)
                 for t in ti.static(derive_terms):

@@ -73,12 +73,12 @@ def read_pvd(path) -> list[tuple[float, int, str]]:
 class VTKWriter:
     """Writes frames of a simulation to `folder` (created if needed)."""
 
-    def __init__(self, folder, sim):
+    def __init__(self, folder, sim, resume=None):
+        """`resume`: (next frame number, index entries) of a run being continued."""
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
         self.name = sim.scene.name
-        self.frame = 0
-        self.entries = []
+        self.frame, self.entries = (0, []) if resume is None else (resume[0], list(resume[1]))
         self.walls_file = None
         walls = sim.wall
         if walls.any():

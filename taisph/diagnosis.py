@@ -1,0 +1,148 @@
+"""What went wrong when a guard trips, and what to do about it.
+
+:func:`collect` reads the guard flags and the offending particles, :func:`explain`
+turns them into a message (what, when, which particles and where, the likely cause
+and a remedy), :func:`write_evidence` writes the last state that passed the guards
+as a frame and the offending particles (in their failing state) as a separate .vtu,
+both viewable in ParaView.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from . import stepping
+from .layout import FLUID
+
+
+def collect(sim) -> dict:
+    flags = sim._flags.to_numpy()
+    status = sim._status.to_numpy()
+    count = int(flags[stepping.COUNT])
+    records = flags[stepping.RECORDS : stepping.RECORDS + 2 * min(count, stepping.MAX_RECORDED)].reshape(-1, 2)
+    vec, sca, ints = sim._to_numpy(sim._C)
+    q = sim.solver.layout.q
+    ids = records[:, 0]
+    particles = []
+    for pid, code in records:
+        particles.append(dict(
+            id=int(pid),
+            problems=[name for bit, name in stepping.CODE_NAMES.items() if code & bit],
+            position=vec[q.position][pid].tolist(),
+            velocity=vec[q.velocity][pid].tolist(),
+            density=float(sca[q.density][pid]),
+        ))
+    rho0 = np.array([getattr(m, "rho0", np.nan) for m in sim.scene.materials])
+    fluid = ints[q.kind] == FLUID
+    with np.errstate(invalid="ignore"):
+        density_error = np.nanmax(np.abs(sca[q.density][fluid] / rho0[ints[q.material][fluid]] - 1.0), initial=0.0)
+    return dict(
+        codes=[name for bit, name in stepping.CODE_NAMES.items() if int(flags[stepping.CODES]) & bit],
+        count=count,
+        particles=particles,
+        ids=ids,
+        step=int(status[stepping.STEPS]),
+        time=float(status[stepping.TIME]),
+        dt=float(status[stepping.DT]),
+        dt_fixed=sim.controls.dt,
+        # the limit before things went wrong (a blow-up drives it to zero)
+        dt_stable_min=float(getattr(sim, "_good_dt_stable", status[stepping.DT_STABLE_MIN])),
+        dt_stable=float(status[stepping.DT_STABLE]),
+        last_good_time=getattr(sim, "_good_time", 0.0),
+        last_good_step=getattr(sim, "_good_steps", 0),
+        integrator=sim.scene.integrator,
+        max_density_error=sim.controls.max_density_error,
+        density_error=float(density_error),
+    )
+
+
+def likely_causes(sim, report) -> list:
+    causes = []
+    fixed = report["dt_fixed"]
+    if fixed is not None and fixed > report["dt_stable_min"]:
+        causes.append(
+            f"dt {fixed:.3g} s is above the stability limit {report['dt_stable_min']:.3g} s "
+            f"(CFL {sim.controls.courant} h/(c+|v|) and force {sim.controls.force_factor} sqrt(h/|a|)): "
+            "use a smaller --dt, or none for the adaptive step"
+        )
+    if report["integrator"] in ("euler", "eulermid", "eulermom"):
+        causes.append(
+            f"the {report['integrator']} integrator updates density with the old velocity, which lets "
+            "the acoustic oscillation of weakly compressible SPH grow: use --integrator pc, or a much "
+            "smaller dt"
+        )
+    if "left the domain" in report["codes"]:
+        has_lj = any(t.name == "lennard_jones_wall" for t in sim.scene.terms)
+        causes.append(
+            "particles passed a wall or flew out of the domain: "
+            + ("the Lennard-Jones wall force is too weak for the impact speed (raise lj_strength) or dt too "
+               "large; " if has_lj else "")
+            + "for an open domain, run with remove_escaped=True (--remove-escaped) to take them out and "
+              "count them"
+        )
+    if "density error" in report["codes"]:
+        causes.append(
+            f"density departs from rho0 by more than {report['max_density_error']:.0%}: the sound speed c0 is "
+            "too low for the flow speed (keep c0 >= 10 |v|max), or particles are being crushed against a "
+            "wall; raise c0 or --max-density-error"
+        )
+    if not causes:
+        causes.append("the state diverged; try a smaller dt (or the adaptive step) and the pc integrator")
+    return causes
+
+
+def explain(sim, report, files=()) -> str:
+    lines = [
+        f"simulation stopped at step {report['step']}, t = {report['time']:.6g} s"
+        + (f" (fixed dt = {report['dt_fixed']:.3g} s)" if report["dt_fixed"] else "")
+        + f": {report['count']} fluid particle(s) with "
+        + ", ".join(report["codes"])
+        + f"; the last state that passed the guards is from step {report['last_good_step']}, "
+        f"t = {report['last_good_time']:.6g} s."
+    ]
+    for p in report["particles"][:5]:
+        pos = ", ".join(f"{x:.4g}" for x in p["position"])
+        vel = ", ".join(f"{x:.4g}" for x in p["velocity"])
+        lines.append(f"  particle {p['id']}: {', '.join(p['problems'])} at x = ({pos}), v = ({vel}), "
+                     f"rho = {p['density']:.6g}")
+    if report["count"] > 5:
+        lines.append(f"  ... and {report['count'] - 5} more")
+    lines.append("likely cause: " + "; ".join(likely_causes(sim, report)))
+    if files:
+        lines.append("written for ParaView: " + ", ".join(str(f) for f in files))
+    return "\n".join(lines)
+
+
+def write_evidence(sim, report, folder) -> list:
+    from .vtk import write_vtu
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    q = sim.solver.layout.q
+    files = []
+    if sim._good is not None:
+        vec, sca, ints = sim._to_numpy(sim._good)
+        fluid = ints[q.kind] == FLUID
+        path = folder / f"{sim.scene.name}_last_good.vtu"
+        write_vtu(path, vec[q.position][fluid], _point_arrays(vec, sca, ints, q, fluid))
+        files.append(path)
+    vec, sca, ints = sim._to_numpy(sim._C)
+    bad = np.zeros(len(ints[q.id]), bool)
+    bad[report["ids"]] = True
+    if bad.any():
+        path = folder / f"{sim.scene.name}_offending.vtu"
+        write_vtu(path, np.nan_to_num(vec[q.position][bad], posinf=1e30, neginf=-1e30),
+                  _point_arrays(vec, sca, ints, q, bad))
+        files.append(path)
+    return files
+
+
+def _point_arrays(vec, sca, ints, q, select):
+    return {
+        "velocity": vec[q.velocity][select],
+        "pressure": sca[q.pressure][select],
+        "density": sca[q.density][select],
+        "mass": sca[q.mass][select],
+        "id": ints[q.id][select].astype(np.int32),
+        "material": ints[q.material][select].astype(np.int32),
+    }
