@@ -102,7 +102,12 @@ def build_parser(case: str | None = None) -> argparse.ArgumentParser:
     if case:
         params = _case_parameters(_cases()[case])
         lines = [f"  {k} = {v!r}" for k, v in params.items()]
-        parser.epilog = "case parameters (--set NAME=VALUE):\n" + "\n".join(lines) + "\n\n" + EPILOG
+        try:
+            effects = "\n".join(f"  {t.describe()}" for t in _cases()[case]().terms)
+        except Exception as err:  # a case that cannot build with defaults still gets --help
+            effects = f"  (could not build the default scene: {err})"
+        parser.epilog = ("case parameters (--set NAME=VALUE):\n" + "\n".join(lines)
+                         + "\n\neffects (compiled in):\n" + effects + "\n\n" + EPILOG)
     return parser
 
 

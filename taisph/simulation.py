@@ -607,6 +607,18 @@ class Simulation:
     def wall(self) -> np.ndarray:
         return self.kinds() == WALL
 
+    def bytes_per_particle(self) -> int:
+        """Memory of the particle state per particle: the stored rows, twice (current
+        and cell-sorted buffers), the cell index, and the saved good state."""
+        L = self.solver.layout
+        real = 4 if self.runtime.precision == "f32" else 8
+        row = self.dim * real * len(L.vectors) + real * len(L.scalars) + 4 * len(L.integers)
+        return 3 * row + 4
+
+    def effects(self) -> list:
+        """Names of the terms compiled into this simulation's kernels."""
+        return [t.name for t in self.scene.terms]
+
     def total_mass(self) -> float:
         return float(self.masses()[self.fluid].sum())
 

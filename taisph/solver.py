@@ -43,6 +43,14 @@ SERIAL_SORT_BELOW = 60_000
 
 SELECT = {"fluid": FLUID, "wall": WALL, "all": -1}
 
+# (term, role) of every term function traced into a kernel, appended at compile time:
+# proof that a term the scene does not list contributes no code (tests/test_effects.py).
+TRACED: list = []
+
+
+def _traced(name: str, role: str):
+    TRACED.append((name, role))
+
 
 class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic")):
     """Everything that changes the compiled code (not parameter values)."""
@@ -90,6 +98,7 @@ class _ForceSum:
         r = ti.sqrt(r2)
         grad = (s.params[self.p_grad_norm] * self.kern.g(r * s.params[self.p_inv_h])) * rij
         for t in ti.static(self.terms):
+            ti.static(_traced(t.name, "pair"))
             t.pair(s, i, j, rij, r, grad, rates)
 
 
@@ -111,6 +120,7 @@ class _PassSum:
         q = r * s.params[self.p_inv_h]
         w = s.params[self.p_w_norm] * self.kern.f(q)
         grad = (s.params[self.p_grad_norm] * self.kern.g(q)) * rij
+        ti.static(_traced(self.p.owner, "pass"))
         self.p.pair(s, i, j, rij, r, w, grad, acc)
 
 
@@ -166,7 +176,11 @@ class Solver:
             *range(max(1, len(self.integrated)))
         )
         self.terms = [t.bound(layout, rows, mcols, self.eos, rate_rows, self.kernel) for t in scene.terms]
-        self.passes = [p for t in self.terms for p in t.passes()]
+        self.passes = []
+        for t in self.terms:
+            for p in t.passes():
+                p.owner = t.name
+                self.passes.append(p)
         self.integrator = integ.bind(layout)
         self.grid = Grid(dim, real, rows["grid_lo"], rows["grid_inv_cell"], rows["period"], scene.periodic)
         self.stepping = stepping.Stepping(dim, real, layout, rows, self.eos, scene.periodic)
@@ -340,6 +354,7 @@ class Solver:
                     Sv[q.position, slot] = grid.wrap(s, Sv[q.position, slot])
                 eos.derive(s, slot)
                 for t in ti.static(derive_terms):
+                    ti.static(_traced(t.name, "derive"))
                     t.derive(s, slot)
 
         return sort
@@ -403,6 +418,7 @@ class Solver:
                 if Si[q.kind, i] == FLUID:
                     rates = Rates(acc=ti.Vector.zero(real, dim))  # other members zero-initialised
                     for t in ti.static(body_terms):
+                        ti.static(_traced(t.name, "body"))
                         t.body(s, i, rates)
                     grid.for_each_neighbour(s, i, Sv[q.position, i], support2, visitor, rates)
                     integ.update(s, i, rates, dt)
