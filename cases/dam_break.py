@@ -22,6 +22,7 @@ def dam_break(
     integrator: str = "pc",
     t_end: float = 2.0,
     frames: int = 50,
+    closed_top: bool = False,
 ) -> Scene:
     """Water column `width` x `height` (m) at the left wall of a `tank_width` tank.
 
@@ -30,13 +31,16 @@ def dam_break(
     Tait water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed),
     Lennard-Jones walls (seed eq. 13) of particles dx/2 apart with r0 = dx/2 and
     D = 5 g H / r0. The column starts in hydrostatic equilibrium (inverse Tait).
+    The tank is open at the top (late splashes can go over a wall and leave the
+    domain, which stops the run unless escaped particles are removed) unless
+    `closed_top`.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break")
+                      kernel, integrator, t_end, frames, "dam_break", closed_top)
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-               kernel, integrator, t_end, frames, name):
+               kernel, integrator, t_end, frames, name, closed_top=False):
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
     spacing = dx / 2.0
@@ -74,5 +78,5 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
     depth_below_surface = height - fluid[:, up]
     rho = tait.density(water.rho0 * g * depth_below_surface, water.rho0, water.c0, water.gamma)
     scene.add_fluid(fluid, density=rho)
-    scene.add_walls(box_walls(lo, tank_hi, spacing, vertical_axis=up))
+    scene.add_walls(box_walls(lo, tank_hi, spacing, vertical_axis=up, open_top=not closed_top))
     return scene

@@ -18,6 +18,7 @@ def dam_break_3d(
     integrator: str = "pc",
     t_end: float = 1.0,
     frames: int = 25,
+    closed_top: bool = False,
 ):
     """The 2D dam break extruded to `depth` (m) between two side walls.
 
@@ -25,4 +26,4 @@ def dam_break_3d(
     particles), same physics and defaults as ``dam_break``.
     """
     return _dam_break(3, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break_3d")
+                      kernel, integrator, t_end, frames, "dam_break_3d", closed_top)

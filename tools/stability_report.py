@@ -83,9 +83,11 @@ def still_water(quick):
 
 def dam_break(quick):
     dx, t_end = (0.05, 2.0) if quick else (0.02, 4.0)
-    sim = taisph.Simulation(taisph.cases.dam_break(dx=dx))
-    rec = watch_run(sim, t_end, 40, lambda x: (x[:, 0] > 0) & (x[:, 0] < 4) & (x[:, 1] > 0))
-    row(f"violent dam break to {t_end} s", sim, rec)
+    # closed tank: in the open 4 m tank the run-up on the left wall (t ~ 2.4 s at
+    # dx = 0.02) throws a few particles over it, out of the domain
+    sim = taisph.Simulation(taisph.cases.dam_break(dx=dx, closed_top=True))
+    rec = watch_run(sim, t_end, 40, lambda x: (x[:, 0] > 0) & (x[:, 0] < 4) & (x[:, 1] > 0) & (x[:, 1] < 4))
+    row(f"violent dam break to {t_end} s (closed tank)", sim, rec)
 
 
 def drop(quick):
