@@ -52,7 +52,7 @@ def watch_run(sim, t_end, frames, inside):
     rec["wall"] = time.perf_counter() - start
     rec["summary"] = summary
     rec["mass_change"] = float(sim.masses()[sim.fluid].sum() - m0)
-    rec["energy_growth"] = float(np.max(np.diff(rec["energy"])) / e0)
+    rec["energy_growth"] = float(np.max(np.diff(rec["energy"]), initial=-np.inf) / e0)
     rec["energy_end"] = rec["energy"][-1] / e0
     return rec
 
@@ -63,7 +63,7 @@ def row(name, sim, rec, extra=""):
     steps = s.steps if s else "-"
     status = rec["error"] or "ok"
     print(f"| {name} | {sim.n_fluid} | {steps} | {dt} | {status} | {rec['outside']} | "
-          f"{max(rec['drho']) * 100:.2f} % | {rec['mass_change']:.1e} | {rec['energy_growth'] * 100:+.3f} % | "
+          f"{max(rec['drho'], default=float('nan')) * 100:.2f} % | {rec['mass_change']:.1e} | {rec['energy_growth'] * 100:+.3f} % | "
           f"{rec['energy_end']:.3f} | {extra} |", flush=True)
 
 
@@ -125,12 +125,14 @@ def free_fall(quick):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--only", nargs="+", help="scenes to run: still_water dam_break drop free_fall")
     args = p.parse_args(argv)
     print("| scene | fluid | steps | dt (s) | guards | particles through a wall | max density error | "
           "fluid mass change | largest energy growth per frame / E0 | E_end / E0 | notes |")
     print("|---|---:|---:|---|---|---:|---:|---:|---:|---:|---|")
     for scene in (still_water, dam_break, drop, free_fall):
-        scene(args.quick)
+        if not args.only or scene.__name__ in args.only:
+            scene(args.quick)
 
 
 if __name__ == "__main__":
