@@ -3,9 +3,11 @@
 from .artificial_viscosity import ArtificialViscosity
 from .base import Term
 from .continuity import Continuity
+from .continuity_colagrossi import ContinuityColagrossi
 from .gravity import Gravity
 from .lennard_jones import LennardJonesWall
 from .pressure_gradient import PressureGradient
+from .pressure_hu_adams import PressureHuAdams
 from .tait import Tait
 
 __all__ = [
@@ -16,4 +18,6 @@ __all__ = [
     "ArtificialViscosity",
     "LennardJonesWall",
     "Tait",
+    "ContinuityColagrossi",
+    "PressureHuAdams",
 ]
