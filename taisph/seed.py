@@ -451,12 +451,37 @@ def run_files(scene, energy, out=None, precision="f64", threads=None, progress=T
         summary = sim.run(scene.t_end, frames=scene.frames, out=out, progress=progress, callback=write_frame)
     print(f"done: {summary}; seed output {out / 'fluid.dat'} ({writer.frames} frames); "
           f"open {out / (scene.name + '.pvd')} in ParaView")
-    finite = all(np.isfinite(a).all() for a in (sim.positions(), sim.velocities(), sim.density()))
-    if not finite:
-        print("taisph run: warning: the state is no longer finite: the run was unstable; try a smaller DT "
+    problems = health(sim)
+    if problems:
+        print(f"taisph run: warning: the run was unstable ({'; '.join(problems)}); try a smaller DT "
               "(see the stability table in docs/seed.md)", file=sys.stderr)
         return 1
     return 0
+
+
+def health(sim, box=None, max_density_deviation: float = MAX_DENSITY_DEVIATION) -> list[str]:
+    """What is wrong with a simulation's fluid state (an empty list if nothing):
+    non-finite positions, velocities or densities; a density further than
+    `max_density_deviation` from its material's rho0; with `box` = (lo, hi), fluid
+    particles outside it. The stability table of docs/seed.md uses this test."""
+    fluid = sim.fluid
+    x, v, rho = sim.positions()[fluid], sim.velocities()[fluid], sim.density()[fluid]
+    problems = []
+    bad = ~(np.isfinite(x).all(axis=1) & np.isfinite(v).all(axis=1) & np.isfinite(rho))
+    if bad.any():
+        problems.append(f"{int(bad.sum())} fluid particle(s) with a non-finite state")
+    rho0 = np.array([m.rho0 for m in sim.scene.materials])[sim.materials()[fluid]]
+    with np.errstate(invalid="ignore"):
+        dev = np.abs(rho / rho0 - 1.0)
+    if np.any(dev[~bad] > max_density_deviation):
+        problems.append(f"density up to {100 * np.nanmax(dev[~bad]):.3g} % from rho0 "
+                        f"(bound {100 * max_density_deviation:g} %)")
+    if box is not None:
+        lo, hi = (np.asarray(b, float) for b in box)
+        outside = ~bad & ~np.all((x >= lo) & (x <= hi), axis=1)
+        if outside.any():
+            problems.append(f"{int(outside.sum())} fluid particle(s) outside the box {lo.tolist()} .. {hi.tolist()}")
+    return problems
 
 
 def export_main(argv) -> int:

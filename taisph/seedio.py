@@ -236,9 +236,9 @@ def _rows(position, velocity, mass, density, pressure, energy, index=None) -> np
     if dim not in COLUMNS:
         raise ValueError(f"the seed format is 2D or 3D (11 columns), got {dim} coordinates")
     index = np.arange(n) if index is None else np.asarray(index)
-    energy = np.zeros(n) if energy is None else np.broadcast_to(np.asarray(energy, float), (n,))
-    return np.column_stack([index, position, np.asarray(velocity, float).reshape(n, dim), mass, density,
-                            pressure, energy])
+    energy = 0.0 if energy is None else energy
+    scalars = [np.broadcast_to(np.asarray(a, float), (n,)) for a in (mass, density, pressure, energy)]
+    return np.column_stack([index, position, np.broadcast_to(np.asarray(velocity, float), (n, dim)), *scalars])
 
 
 def _format(dim: int) -> str:
