@@ -15,7 +15,7 @@ def two_fluids(
     height: float = 2.0,
     tank_height: float = 2.5,
     density_ratio: float = 2.0,
-    heavy_density: float = 1000.0,
+    upper_density: float = 1000.0,
     amplitude: float = 0.05,
     alpha: float = 0.1,
     c0: float | None = None,
@@ -27,13 +27,15 @@ def two_fluids(
     frames: int = 25,
 ) -> Scene:
     """A `width` x `height` box of liquid, open at the top (walls up to
-    `tank_height`): the upper half is the heavy fluid (`heavy_density`, material 0),
-    the lower half the light one (`heavy_density` / `density_ratio`, material 1).
-    The interface is y = height/2 + `amplitude` cos(2 pi x / width): the heavy fluid
-    reaches lowest at mid-width, where its finger falls; light fluid rises along the
-    side walls. Linear theory (inviscid): the perturbation grows as cosh(sigma t),
-    sigma = sqrt(A k g) with the Atwood number A = (r - 1)/(r + 1) = 1/3 and
-    k = 2 pi / width, so sigma = 4.5 / s by default.
+    `tank_height`): the upper half is fluid of `upper_density` (material 0), the lower
+    half `upper_density` / `density_ratio` (material 1). The default ratio 2 puts the
+    heavy fluid on top, half as dense below (the seed's Figure 4); a ratio below 1 is
+    the stable stratification (the tests' control). The interface is
+    y = height/2 + `amplitude` cos(2 pi x / width): the upper fluid reaches lowest at
+    mid-width, where its finger falls; light fluid rises along the side walls. Linear
+    theory (inviscid): the perturbation grows as cosh(sigma t), sigma = sqrt(A k g)
+    with the Atwood number A = (r - 1)/(r + 1) = 1/3 and k = 2 pi / width, so
+    sigma = 4.5 / s by default.
 
     Formulation (sharp interface): momentum after Hu & Adams (2006) and continuity
     after Colagrossi & Landrini (2003), both using each particle's own density and
@@ -45,13 +47,13 @@ def two_fluids(
     hydrostatic (the pressure of the fluid above, through each material's inverse
     Tait). Default dx = 0.02 m: 5000 fluid particles.
     """
-    if not density_ratio > 1:
-        raise ValueError(f"density_ratio must be > 1 (heavy over light), got {density_ratio!r}")
+    if not (density_ratio > 0 and math.isfinite(density_ratio)):
+        raise ValueError(f"density_ratio (upper / lower density) must be positive, got {density_ratio!r}")
     if not 0 <= amplitude < 0.25 * height:
         raise ValueError(f"amplitude must be in [0, height/4), got {amplitude!r}")
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
-    heavy = Material("heavy", rho0=heavy_density, c0=c0, gamma=7.0)
-    light = Material("light", rho0=heavy_density / density_ratio, c0=c0, gamma=7.0)
+    upper = Material("upper", rho0=upper_density, c0=c0, gamma=7.0)
+    lower = Material("lower", rho0=upper_density / density_ratio, c0=c0, gamma=7.0)
     spacing = r0 = dx / 2.0
     scene = Scene(
         name="two_fluids",
@@ -59,7 +61,7 @@ def two_fluids(
         dx=dx,
         smoothing_length=h_factor * dx,
         domain=(np.array([-dx, -dx]), np.array([width + dx, tank_height + dx])),
-        materials=[heavy, light],
+        materials=[upper, lower],
         terms=[
             ContinuityColagrossi(),
             PressureHuAdams(),
@@ -71,17 +73,17 @@ def two_fluids(
         integrator=integrator,
         t_end=t_end,
         frames=frames,
-        description=(f"{heavy.rho0:g} kg/m^3 fluid over {light.rho0:g} kg/m^3 fluid in a {width:g} m x {height:g} m box "
+        description=(f"{upper.rho0:g} kg/m^3 fluid over {lower.rho0:g} kg/m^3 fluid in a {width:g} m x {height:g} m box "
                      f"(Rayleigh-Taylor, Hu & Adams / Colagrossi & Landrini multiphase form)"),
     )
     points = lattice([0.0, 0.0], [width, height], dx)
     x, y = points[:, 0], points[:, 1]
     interface = interface_height(x, width, height, amplitude)
-    is_heavy = y > interface
-    # hydrostatic pressure: the heavy column above, plus the light column for light particles
-    p = np.where(is_heavy, heavy.rho0 * g * (height - y),
-                 heavy.rho0 * g * (height - interface) + light.rho0 * g * (interface - y))
-    for k, (material, sel) in enumerate(((heavy, is_heavy), (light, ~is_heavy))):
+    is_upper = y > interface
+    # hydrostatic pressure: the upper column above, plus the lower column for lower particles
+    p = np.where(is_upper, upper.rho0 * g * (height - y),
+                 upper.rho0 * g * (height - interface) + lower.rho0 * g * (interface - y))
+    for k, (material, sel) in enumerate(((upper, is_upper), (lower, ~is_upper))):
         rho = tait.density(p[sel], material.rho0, material.c0, material.gamma)
         scene.add_fluid(points[sel], material=k, density=rho, mass=material.rho0 * dx**2)
     scene.add_walls(box_walls([0.0, 0.0], [width, tank_height], spacing))
@@ -89,5 +91,5 @@ def two_fluids(
 
 
 def interface_height(x, width=1.0, height=2.0, amplitude=0.05):
-    """The initial interface y(x) between the heavy (above) and the light fluid."""
+    """The initial interface y(x) between the upper and the lower fluid."""
     return 0.5 * height + amplitude * np.cos(2.0 * np.pi * np.asarray(x, float) / width)
