@@ -155,7 +155,7 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
         if dim is None:
             raise SeedFileError(path, f"found {len(first_tokens)} columns; a particle line has "
                                       f"{_columns_text(2)} or {_columns_text(3)}", first_line)
-        set_by = f" (line {first_line}, the first particle line, has {len(first_tokens)} and sets the dimension)"
+        set_by = f"; the first particle line, line {first_line}, has {len(first_tokens)} and sets the dimension"
     else:
         set_by = ""
     names = COLUMNS[dim]
@@ -163,7 +163,8 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
     for k, tokens in body:
         if len(tokens) != ncol:
             kind = "missing" if len(tokens) < ncol else "extra"
-            raise SeedFileError(path, f"{kind} columns: expected {_columns_text(dim)}{set_by}, found {len(tokens)}", k)
+            raise SeedFileError(path, f"{kind} columns: found {len(tokens)}, expected {ncol} "
+                                      f"({dim}D: {' '.join(names)}{set_by})", k)
 
     # --- numbers (fast path, then locate the first bad token) ----------------------
     rows = [tokens for _, tokens in body]

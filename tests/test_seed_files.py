@@ -87,7 +87,7 @@ def test_bad_boundary_file_refused(tmp_path, capsys):
     # a 3D boundary file with a 2D particle file
     walls.write_text("1\n0 0 0 0 0 0 0 0.4 1000 0 0\n")
     assert cli.main(["run", str(init), str(walls), "0.01", "0.001", "pc", "spline", "--out", str(out)]) == 2
-    assert "expected 9 columns" in capsys.readouterr().err
+    assert "found 11, expected 9 (2D" in capsys.readouterr().err
     assert not out.exists()
 
 
@@ -98,7 +98,7 @@ def test_missing_file_and_dim_flag(tmp_path, capsys):
     init = tmp_path / "init.dat"
     init.write_text(GOOD)
     assert cli.main(["run", str(init), "0.01", "0.001", "pc", "spline", "--dim", "3"]) == 2
-    assert "expected 11 columns (3D" in capsys.readouterr().err
+    assert "found 9, expected 11 (3D" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("args,needle", [
