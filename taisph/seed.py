@@ -319,8 +319,8 @@ particles' spacing (median nearest-neighbour distance); D = 5 g H / r0.
 
 examples:
   python -m taisph export dam_break_wedge --dat wedge/      # writes files + the run command
-  python -m taisph run wedge/particles.dat wedge/boundary.dat 1.5 1e-4 pc spline
-  python -m taisph run drop.dat walls.dat 0.5 0.0001 euler gaussian --alpha 0.2"""
+  python -m taisph run wedge/particles.dat wedge/boundary.dat 1.5 8e-5 pc spline
+  python -m taisph run drop.dat walls.dat 0.5 0.0001 pc gaussian --alpha 0.2"""
 
 
 def _floats(text: str) -> list:

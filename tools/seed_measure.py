@@ -1,11 +1,16 @@
 """Print the measured quantities of the seed's three scenes that tests/test_seed_cases.py
-asserts and docs/seed.md quotes, at the tests' resolutions.
+asserts and docs/seed.md quotes, at the tests' resolutions, and the largest difference
+between running a case and running its exported seed files (tests/test_seed_cli.py).
 
     python tools/seed_measure.py            # about a minute on 2 cores
 """
 
+import contextlib
+import io
 import math
+import shlex
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -84,13 +89,39 @@ def two_fluids():
             print(f"  potential energy released: {100 * rel:.1f} % of full inversion ({full:.0f} J/m)")
             print(f"  heavy finger tip {1.0 - last['x'][up, 1].min():.3f} m below y = 1, light bubble "
                   f"{last['x'][low, 1].max() - 1.0:.3f} m above")
-            rho0 = np.where(last["mat"][f] == 0, 1000.0, 500.0)
             print(f"  max |rho/rho0-1| over frames: "
                   f"{max(np.abs(s['rho'][f] / np.where(s['mat'][f] == 0, 1000.0, 500.0) - 1).max() for s in snaps):.4f}")
     print(f"  control/unstable fall ratio: {out[0.5] / out[2.0]:.3f}")
 
 
+def export_run():
+    from taisph import cli, seedio
+
+    for case, params in (("dam_break_wedge", {"dx": 0.08}), ("two_fluids", {"dx": 0.05}),
+                         ("drop_on_incline", {"dim": 3, "dx": 0.1})):
+        with tempfile.TemporaryDirectory() as tmp:
+            buf = io.StringIO()
+            with contextlib.redirect_stdout(buf):
+                cli.main(["export", case, "--dat", f"{tmp}/dat"]
+                         + sum((["--set", f"{k}={v}"] for k, v in params.items()), []))
+            argv = shlex.split(buf.getvalue().strip().splitlines()[-1])[3:]
+            scene = taisph.cases.CASES[case](**params)
+            sim = taisph.Simulation(scene)
+            t_end = 30 * sim.dt
+            argv[(2 if scene.n_wall else 1) + 1] = repr(t_end)
+            with contextlib.redirect_stdout(io.StringIO()):
+                cli.main(argv + ["--frames", "1", "--out", f"{tmp}/out", "--no-progress"])
+            sim.run(t_end, frames=1)
+            f = seedio.read_output(f"{tmp}/out/fluid.dat")[-1]
+            fl = sim.fluid
+            print(f"export -> run, {case} {params}, {sim.steps} steps: max |dx| = "
+                  f"{np.abs(f.position - sim.positions()[fl]).max():.3g} m, max |dv| = "
+                  f"{np.abs(f.velocity - sim.velocities()[fl]).max():.3g} m/s, max |drho| = "
+                  f"{np.abs(f.density - sim.density()[fl]).max():.3g} kg/m^3")
+
+
 if __name__ == "__main__":
+    export_run()
     wedge()
     drop()
     two_fluids()
