@@ -3,6 +3,7 @@ asserts and docs/seed.md quotes, at the tests' resolutions, and the largest diff
 between running a case and running its exported seed files (tests/test_seed_cli.py).
 
     python tools/seed_measure.py            # about a minute on 2 cores
+    python tools/seed_measure.py --rt       # Rayleigh-Taylor growth vs linear theory (about 3 min)
 """
 
 import contextlib
@@ -120,7 +121,46 @@ def export_run():
                   f"{np.abs(f.density - sim.density()[fl]).max():.3g} kg/m^3")
 
 
+def rt_growth():
+    """Interface amplitude of two_fluids, as the first Fourier mode of the upper fluid,
+    a(t) = -(2/W) sum_upper V_p cos(k x_p), V_p = m_p / rho0 (exactly a for an interface
+    y = H/2 + a cos(k x)), against inviscid linear theory a0 cosh(sigma t),
+    sigma = sqrt(A k g), and the viscous estimate sigma_v = sqrt(sigma^2 + nu^2 k^4) - nu k^2
+    with the artificial viscosity's nu = alpha h c0 / 8 (2D, Monaghan 2005)."""
+    from taisph.terms import Continuity, PressureGradient
+
+    k = 2 * math.pi
+    sigma0 = math.sqrt(G * k / 3.0)
+    print(f"two_fluids Rayleigh-Taylor: inviscid linear theory sigma = {sigma0:.2f} /s")
+    times = (0.25, 0.5, 0.75, 1.0)
+    for dx, alpha, form in ((0.04, 0.1, "multiphase"), (0.04, 0.02, "multiphase"), (0.04, 0.1, "seed"),
+                            (0.02, 0.1, "multiphase")):
+        scene = taisph.cases.two_fluids(dx=dx, alpha=alpha)
+        if form == "seed":
+            scene.terms[:2] = [Continuity(), PressureGradient()]
+        start = time.perf_counter()
+        sim, snaps = record(scene, 1.0, 8)
+        f = sim.fluid
+        up = f & (sim.materials() == 0)
+
+        volume = snaps[0]["m"][up] / scene.materials[0].rho0
+
+        def amplitude(s):
+            return float(-2.0 * (volume * np.cos(k * s["x"][up, 0])).sum())
+
+        a0 = amplitude(snaps[0])
+        nu = alpha * scene.smoothing_length * scene.materials[0].c0 / 8
+        sigma_v = math.sqrt(sigma0**2 + nu**2 * k**4) - nu * k**2
+        growth = ", ".join(f"t={t}: a/a0={amplitude(at(snaps, t)) / a0:.2f} "
+                           f"(sigma_eff {math.acosh(max(1.0, amplitude(at(snaps, t)) / a0)) / t:.2f})" for t in times)
+        print(f"  dx={dx} alpha={alpha} {form:10s} a0={a0:.3f} nu={nu:.4f} sigma_viscous={sigma_v:.2f}/s | {growth} "
+              f"({time.perf_counter() - start:.0f} s wall)")
+
+
 if __name__ == "__main__":
+    if "--rt" in sys.argv:
+        rt_growth()
+        sys.exit()
     export_run()
     wedge()
     drop()

@@ -20,6 +20,7 @@ Results already in the --json file are reused (delete it to start again).
 
 import argparse
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -100,6 +101,17 @@ def main(argv=None):
     print(table(results))
 
 
+def _failure(problems) -> str:
+    """'blow-up' (non-finite, or a density off by more than 100 %) or the density reached."""
+    text = "; ".join(problems)
+    match = re.search(r"density up to ([0-9.e+]+) %", text)
+    if "non-finite" in text or (match and float(match.group(1)) > 100):
+        return "blow-up"
+    if match:
+        return f"{float(match.group(1)):.0f} %"
+    return "left the domain"
+
+
 def table(results) -> str:
     """Markdown tables, one per scene: rows integrator x kernel, columns dt."""
     lines = []
@@ -111,7 +123,7 @@ def table(results) -> str:
         dts = sorted({r["dt"] for r in rows}, reverse=True)
         lines.append(f"**{name}** ({', '.join(f'{k}={v}' for k, v in kwargs.items())}, t_end = {t_end} s, "
                      f"default dt = {rows[0]['default_dt']:.3g} s)\n")
-        lines.append("| integrator | kernel | " + " | ".join(f"{dt:g}" for dt in dts) + " |")
+        lines.append("| integrator | kernel | " + " | ".join(f"dt = {dt:g}" for dt in dts) + " |")
         lines.append("|---|---|" + "---:|" * len(dts))
         for integrator in INTEGRATORS:
             for kernel in KERNELS:
@@ -123,7 +135,7 @@ def table(results) -> str:
                     elif r["stable"]:
                         cells.append(f"✓ {100 * r['max_density_deviation']:.1f} %")
                     else:
-                        cells.append(f"✗ {r['t_reached']:.2f} s")
+                        cells.append(f"✗ {r['t_reached']:.2f} s, {_failure(r['problems'])}")
                 if any(cells):
                     lines.append(f"| {integrator} | {kernel} | " + " | ".join(cells) + " |")
         lines.append("")
