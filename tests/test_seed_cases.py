@@ -200,3 +200,29 @@ def test_no_material_created_or_lost(two_fluids):
         assert x[:, 0].min() > 0 and x[:, 0].max() < 1.0 and x[:, 1].min() > 0 and x[:, 1].max() < 2.5
         rho0 = np.where(s["mat"][fluid] == 0, 1000.0, 500.0)
         assert np.abs(s["rho"][fluid] / rho0 - 1).max() < 0.05
+
+
+@pytest.mark.parametrize("case,params", [("dam_break_wedge", {"dx": 0.1}), ("drop_on_incline", {"dx": 0.05}),
+                                         ("two_fluids", {"dx": 0.1})])
+def test_frames_open_in_vtk(tmp_path, case, params):
+    """Each scene's frames open with VTK's XML reader (as ParaView reads them), with every
+    fluid particle, the walls in their own file, and (two_fluids) both materials."""
+    vtkio = pytest.importorskip("vtkmodules.vtkIOXML")
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    from taisph import vtk
+
+    scene = taisph.cases.CASES[case](**params)
+    sim = taisph.Simulation(scene)
+    sim.run(3 * sim.dt, frames=1, out=tmp_path)
+    entries = vtk.read_pvd(tmp_path / f"{case}.pvd")
+    assert len([e for e in entries if e[1] == 0]) == 2 and any(e[1] == 1 for e in entries)
+    for _, part, name in entries:
+        reader = vtkio.vtkXMLUnstructuredGridReader()
+        reader.SetFileName(str(tmp_path / name))
+        reader.Update()
+        grid = reader.GetOutput()
+        assert grid.GetNumberOfPoints() == (scene.n_fluid if part == 0 else scene.n_wall)
+        if part == 0:
+            materials = set(vtk_to_numpy(grid.GetPointData().GetArray("material")).tolist())
+            assert materials == ({0, 1} if case == "two_fluids" else {0})
