@@ -135,3 +135,19 @@ def test_export_refuses_what_files_cannot_hold(tmp_path):
     with pytest.raises(ValueError, match="cannot export"):
         seed.export_scene(scene, tmp_path / "x")
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("integrator", ["euler", "pc"])
+def test_boundary_velocity_moves_walls(tmp_path, integrator):
+    """The boundary file's u, v move the walls rigidly: after n steps every wall particle
+    has moved by u n dt (to round-off)."""
+    x = taisph.scene.lattice([0.2, 0.2], [0.4, 0.4], 0.02)
+    init = seedio.write_particles(tmp_path / "p.dat", x, np.zeros_like(x), 0.4, 1000.0, 0.0)
+    walls = taisph.scene.box_walls([0, 0], [1, 1], 0.01)
+    wall_file = seedio.write_particles(tmp_path / "w.dat", walls, np.tile([0.5, 0.0], (len(walls), 1)), 0.4,
+                                       1000.0, 0.0)
+    scene, _ = seed.load_scene(init, wall_file, integrator=integrator, dt=1e-4)
+    sim = taisph.Simulation(scene)
+    sim.step(20)
+    moved = sim.positions()[sim.wall] - walls
+    np.testing.assert_allclose(moved, np.tile([0.5 * 20 * 1e-4, 0.0], (len(walls), 1)), rtol=0, atol=1e-12)
