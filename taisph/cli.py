@@ -12,7 +12,9 @@ USAGE = """\
 python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
 python -m taisph CASE --help        the case's description and parameters
 python -m taisph list               list the built-in cases
-python -m taisph resume DIR         continue a run from its checkpoint folder"""
+python -m taisph resume DIR         continue a run from its checkpoint folder
+python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL   the seed's files (run --help)
+python -m taisph export CASE --dat DIR    a case as the seed's files (export --help)"""
 
 EPILOG = """\
 examples:
@@ -132,9 +134,13 @@ def main(argv=None) -> int:
         return 0
     if command == "resume":
         return resume(argv[1:])
+    if command in ("run", "export"):  # the seed's file workflow: taisph/seed.py
+        from . import seed
+
+        return (seed.run_main if command == "run" else seed.export_main)(argv[1:])
     cases = _cases()
     if command not in cases:
-        print(f"taisph: unknown case or command {command!r}. Cases: {', '.join(cases)}; commands: list",
+        print(f"taisph: unknown case or command {command!r}. Cases: {', '.join(cases)}; commands: list, run, export, resume",
               file=sys.stderr)
         return 2
     args = build_parser(command).parse_args(argv)

@@ -331,10 +331,21 @@ class Simulation:
 
     @property
     def dt(self) -> float:
-        """The fixed time step, or the current adaptive one."""
+        """The fixed time step, or the current adaptive one (before the first step:
+        the one the next step will take, from the maxima of the bootstrap evaluation)."""
         if self.controls.dt is not None:
             return self.controls.dt
-        return self._dt_last if self._dt_last > 0 else min(self._dt_stable, self.controls.dt_max)
+        if self._dt_last > 0:
+            return self._dt_last
+        read = self._status.arr.read_float
+        signal, acc2 = read([stepping.MAX_SIGNAL]), read([stepping.MAX_ACC2])
+        h = self.scene.smoothing_length
+        limits = [self.controls.dt_max, self._control_values()["dt_viscous"]]
+        if signal > 0:
+            limits.append(self.controls.courant * h / signal)
+        if acc2 > 0:
+            limits.append(self.controls.force_factor * math.sqrt(h / math.sqrt(acc2)))
+        return min(limits)
 
     def _advance(self, t_target: float, max_steps: int | None = None, progress=None, steps0: int = 0) -> None:
         """Step until the clock reaches `t_target` (or `max_steps` steps are done),
@@ -351,12 +362,16 @@ class Simulation:
             n = max(1, min(batch, estimate, (max_steps - done) if max_steps is not None else batch))
             self._keep_good_state()
             start = _time.perf_counter()
+            before = self.time
             for _ in range(n):
                 self._advance_arrays(t_target)
             self._read_status()
             done += n
             if self._fail_codes:
                 self._fail()
+            if self.time == before:
+                raise RuntimeError(f"the time step is zero at t = {self.time:.6g} s (dt limits: "
+                                   f"stable {self._dt_stable:.3g} s, controls {self.controls})")
             self._warn_if_dt_unstable()
             if progress is not None:
                 progress.update(self.time, self.steps - steps0)

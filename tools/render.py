@@ -4,7 +4,7 @@
 
 Reads the .pvd index and the .vtu frames with meshio, picks the frames nearest to the
 requested times, and draws particles (2D: x-y; 3D: x-y projection) coloured by a
-point array, with the walls in grey.
+point array (vectors by their length), with the walls in grey.
 """
 
 import argparse
@@ -14,6 +14,12 @@ import meshio
 import numpy as np
 
 from taisph.vtk import read_pvd
+
+
+def _magnitude(values):
+    """A point array as one number per point: itself, or the length of a vector."""
+    values = np.asarray(values)
+    return values if values.ndim == 1 else np.linalg.norm(values.reshape(len(values), -1), axis=1)
 
 
 def main(argv=None):
@@ -38,13 +44,12 @@ def main(argv=None):
     chosen = [min(frames, key=lambda e: abs(e[0] - t)) for t in times]
     wall_points = meshio.read(args.folder / walls[0]).points if walls else None
     meshes = [meshio.read(args.folder / f) for _, f in chosen]
-    values = np.concatenate([np.atleast_2d(m.point_data[args.color].T).T.reshape(len(m.points), -1)[:, 0] for m in meshes])
+    values = np.concatenate([_magnitude(m.point_data[args.color]) for m in meshes])
     vmin, vmax = np.percentile(values, [1, 99])
     fig, axes = plt.subplots(1, len(chosen), figsize=(4 * len(chosen), 4), squeeze=False, constrained_layout=True)
     for ax, (t, _), mesh in zip(axes[0], chosen, meshes):
         x = mesh.points
-        c = mesh.point_data[args.color]
-        c = c if c.ndim == 1 else np.linalg.norm(c, axis=1)
+        c = _magnitude(mesh.point_data[args.color])
         if wall_points is not None:
             ax.scatter(wall_points[:, 0], wall_points[:, 1], s=0.5, c="0.6", linewidths=0)
         sc = ax.scatter(x[:, 0], x[:, 1], s=1.5, c=c, cmap="viridis", vmin=vmin, vmax=vmax, linewidths=0)

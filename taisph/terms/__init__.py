@@ -3,10 +3,12 @@
 from .artificial_viscosity import ArtificialViscosity
 from .base import NeighbourPass, Term
 from .continuity import Continuity
+from .continuity_colagrossi import ContinuityColagrossi
 from .gravity import Gravity
 from .lennard_jones import LennardJonesWall
 from .pressure_gradient import PressureGradient
 from .summation_density import SummationDensity
+from .pressure_hu_adams import PressureHuAdams
 from .tait import Tait
 from .xsph import XSPH
 
@@ -21,4 +23,6 @@ __all__ = [
     "Tait",
     "SummationDensity",
     "XSPH",
+    "ContinuityColagrossi",
+    "PressureHuAdams",
 ]
