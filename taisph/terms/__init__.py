@@ -1,11 +1,15 @@
 """Physical terms, one per module. See :mod:`taisph.terms.base` for the contract."""
 
+from .artificial_conductivity import ArtificialConductivity
 from .artificial_viscosity import ArtificialViscosity
 from .base import NeighbourPass, Term
 from .continuity import Continuity
+from .energy import InternalEnergy
 from .gravity import Gravity
+from .ideal_gas import IdealGas
 from .lennard_jones import LennardJonesWall
 from .pressure_gradient import PressureGradient
+from .smoothing_length import AdaptiveSmoothingLength
 from .summation_density import SummationDensity
 from .tait import Tait
 from .xsph import XSPH
@@ -21,4 +25,8 @@ __all__ = [
     "Tait",
     "SummationDensity",
     "XSPH",
+    "IdealGas",
+    "InternalEnergy",
+    "ArtificialConductivity",
+    "AdaptiveSmoothingLength",
 ]
