@@ -108,7 +108,8 @@ def compare(state: dict, problem, t: float, x0: float = 0.5) -> dict:
     - ``L1x_...``: the same integrated over x, (1/L) int |q - q_exact| dx (trapezoid
       between particles), which weighs the sparse low-density side more;
     - ``p_star``, ``u_star``, ``rho_star_left``, ``rho_star_right``: means over the star
-      region, 4 smoothing lengths away from the rarefaction tail, contact and shock;
+      region, 4 smoothing lengths away from the rarefaction tail, contact and shock
+      (NaN while that region is narrower);
     - ``shock``, ``shock_exact``: where rho falls through (rho*_R + rho_R) / 2, and
       ``h_shock``, the smoothing length behind the shock;
     - ``rho_min``, ``e_min``: smallest density and internal energy.
@@ -132,8 +133,9 @@ def compare(state: dict, problem, t: float, x0: float = 0.5) -> dict:
     core_l = (x > tail + 4 * h_l) & (x < contact - 4 * h_l)
     core_r = (x > contact + 4 * h_r) & (x < shock - 4 * h_r)
     core = core_l | core_r
-    out.update(p_star=float(state["p"][core].mean()), u_star=float(state["u"][core].mean()),
-               rho_star_left=float(state["rho"][core_l].mean()), rho_star_right=float(state["rho"][core_r].mean()))
+    mean = lambda q, where: float(q[where].mean()) if where.any() else float("nan")  # noqa: E731
+    out.update(p_star=mean(state["p"], core), u_star=mean(state["u"], core),
+               rho_star_left=mean(state["rho"], core_l), rho_star_right=mean(state["rho"], core_r))
     if "right_shock" in sp:
         mid = 0.5 * (problem.rho_star_right + problem.right[0])
         rho = state["rho"]

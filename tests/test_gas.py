@@ -254,13 +254,17 @@ def test_sod_with_continuity_density():
 
 
 # --- Sedov blast (2D) ------------------------------------------------------------------
-def test_sedov_blast_follows_the_similarity_law():
+@pytest.mark.parametrize("conductivity", [False, True])
+def test_sedov_blast_follows_the_similarity_law(conductivity):
     """2D blast (E = 1, rho = 1, gamma = 1.4, 50 x 50 particles, variable h): the shock
-    radius - where the radially binned density falls to half way between its peak and
-    rho0 - stays within one initial smoothing length (1.3 dx) of R = xi0 (E t^2/rho)^(1/4),
-    xi0 = 1.004, at t = 0.04, 0.07, 0.1 (measured 0.3-0.5 h outside); density and energy stay
-    positive, total energy is conserved to 1e-3."""
-    scene = taisph.cases.sedov(dx=0.02, variable_h=True)
+    radius - where the ring-averaged density falls half way from its peak to rho0 -
+    stays within one initial smoothing length h0 = 1.3 dx of R = xi0 (E t^2/rho)^(1/4),
+    xi0 = 1.004, at t = 0.04, 0.07, 0.1 (measured at 0.1: +0.33 h0 without conductivity,
+    +0.77 h0 with); density and energy stay positive; total energy is conserved to 1e-3.
+    With conductivity the centre is right too: the internal energy within R/4 is 0.046
+    (exact 0.039; asserted < 0.06). Without, the initially heated particles keep 0.26
+    of E there (cases/sedov.py, docs/gas.md): not asserted, a known limit."""
+    scene = taisph.cases.sedov(dx=0.02, conductivity=conductivity)
     sim = taisph.Simulation(scene)
     st = SedovTaylor(1.4, nu=2)
     energy0 = (sim.masses() * sim.quantity("energy")).sum()
@@ -271,6 +275,8 @@ def test_sedov_blast_follows_the_similarity_law():
     e = sim.quantity("energy")
     assert sim.density().min() > 0 and e.min() > 0
     v = sim.velocities()
-    total = (sim.masses() * (e + 0.5 * (v * v).sum(axis=1))).sum()
-    assert total == pytest.approx(energy0, rel=1e-3)
-
+    m = sim.masses()
+    assert (m * (e + 0.5 * (v * v).sum(axis=1))).sum() == pytest.approx(energy0, rel=1e-3)
+    if conductivity:
+        r = np.linalg.norm(sim.positions(), axis=1)
+        assert (m * e)[r < st.radius(0.1) / 4].sum() < 0.06
