@@ -48,14 +48,6 @@ def effects(density: str = "summation", conductivity: bool = True, variable_h: b
     return terms
 
 
-def smallest_h(scene) -> float:
-    """The smallest initial smoothing length of a scene (the scene's h if constant)."""
-    for t in scene.terms:
-        if isinstance(t, AdaptiveSmoothingLength):
-            return float(np.min(np.minimum(t.initial(scene), scene.smoothing_length)))
-    return scene.smoothing_length
-
-
 def cfl_dt(scene, courant: float = 0.2) -> float:
     """A fixed time step dt = courant h_min / (c_max + |v|_max) from the initial state:
     c_max the largest initial sound speed sqrt(gamma p / rho), h_min the smallest
@@ -68,4 +60,4 @@ def cfl_dt(scene, courant: float = 0.2) -> float:
     and its errors at 0.2 equal those at 0.05 to 1 % (docs/gas.md)."""
     c = scene.eos.max_sound_speed(scene)
     v = float(np.max(np.linalg.norm(scene.velocity, axis=1), initial=0.0))
-    return courant * smallest_h(scene) / (c + v)
+    return courant * scene.smallest_smoothing_length() / (c + v)

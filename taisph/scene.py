@@ -31,9 +31,10 @@ class Material:
     rho0: float = 1000.0
     c0: float = 50.0
     gamma: float = 7.0
+    _positive = ("rho0", "c0", "gamma")  # constants check() requires (not a dataclass field)
 
     def check(self):
-        for key in ("rho0", "c0", "gamma"):
+        for key in self._positive:
             v = getattr(self, key)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"material {self.name!r}: {key} must be a positive number, got {v!r}")
@@ -49,12 +50,10 @@ class Gas(Material):
     rho0: float = 1.0
     c0: float | None = None
     gamma: float = 1.4
+    _positive = ("rho0", "gamma")
 
     def check(self):
-        for key in ("rho0", "gamma"):
-            v = getattr(self, key)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"material {self.name!r}: {key} must be a positive number, got {v!r}")
+        super().check()
         if self.gamma <= 1.0:
             raise ValueError(f"gas {self.name!r}: gamma must be > 1, got {self.gamma!r}")
 
@@ -173,6 +172,15 @@ class Scene:
             out.update(t.values)
         return out
 
+    def smallest_smoothing_length(self) -> float:
+        """The scene's h, or if a term varies it (``initial(scene)``, e.g. adaptive_h)
+        the smallest initial one."""
+        h = self.smoothing_length
+        for t in self.terms:
+            if hasattr(t, "initial"):
+                h = min(h, float(np.min(t.initial(self), initial=h)))
+        return h
+
     def stable_dt(self, courant: float = 0.2) -> float:
         """A fixed time step from the acoustic CFL condition and the force condition
         (Monaghan 1992 sec. 10; Monaghan 2005 eq. 4.12):
@@ -184,10 +192,7 @@ class Scene:
         smoothing length if it varies. For shocks, which raise the signal speed above
         its initial value, the gas cases use :func:`taisph.gas.cfl_dt` instead.
         """
-        h = self.smoothing_length
-        for t in self.terms:  # a variable smoothing length: the smallest initial one
-            if hasattr(t, "initial"):
-                h = min(h, float(np.min(t.initial(self), initial=h)))
+        h = self.smallest_smoothing_length()
         max_sound_speed = getattr(self.eos, "max_sound_speed", None)  # a gas: from its state
         c_max = max_sound_speed(self) if max_sound_speed else max(m.c0 for m in self.materials)
         v_max = float(np.max(np.linalg.norm(self.velocity, axis=1))) if self.n else 0.0

@@ -125,14 +125,6 @@ class Term:
         return s.params[self.p_w_norm] * self.kernel.f(r * s.params[self.p_inv_h])
 
     @ti.func
-    def h_of(self, s: ti.template(), i):
-        """Smoothing length of sorted particle i: its own if h varies, else the scene's."""
-        h = s.params[self.p_h]
-        if ti.static(self.h_varies):
-            h = s.Ss[self.h_row, i]
-        return h
-
-    @ti.func
     def h_pair(self, s: ti.template(), i, j):
         """Smoothing length of the pair (i, j): the mean of theirs if h varies."""
         h = s.params[self.p_h]
