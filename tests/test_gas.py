@@ -173,12 +173,15 @@ def test_gas_scenes_are_checked():
 
 # --- Sod shock tube (1D) ---------------------------------------------------------------
 def run_sod(t_end=0.2, **params):
+    """A Sod run; every one checks that density and internal energy stay positive."""
     scene = taisph.cases.sod(**params)
     sim = taisph.Simulation(scene)
     state0 = tube(sim)
     sim.run(t_end, frames=1)
     state = tube(sim)
-    return scene, state0, state, compare(state, SOD, t_end)
+    result = compare(state, SOD, t_end)
+    assert result["rho_min"] > 0 and result["e_min"] > 0
+    return scene, state0, state, result
 
 
 @pytest.fixture(scope="module")
