@@ -11,7 +11,7 @@ import sys as _sys
 from pathlib import Path as _Path
 
 from .layout import FLUID, WALL
-from .scene import Material, Scene
+from .scene import Gas, Material, Scene
 from .simulation import RunSummary, Simulation
 
 __version__ = "0.1.0"
@@ -40,4 +40,4 @@ def _load_cases():
 
 cases = _load_cases()
 
-__all__ = ["Simulation", "Scene", "Material", "RunSummary", "cases", "FLUID", "WALL"]
+__all__ = ["Simulation", "Scene", "Material", "Gas", "RunSummary", "cases", "FLUID", "WALL"]

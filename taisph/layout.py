@@ -14,6 +14,10 @@ Base quantities (always present)::
 
 Terms, the equation of state and the integrator add rows (e.g. the predictor-
 corrector keeps last step's rates ``acc_prev``, ``d_density_prev``).
+
+A variable smoothing length is the scalar ``h`` (:data:`VARIABLE_H`), stored by the
+term that sets it (:mod:`taisph.terms.smoothing_length`). Its presence switches the
+neighbour sums, at compile time, from the scene's constant h to per-particle values.
 """
 
 from __future__ import annotations
@@ -28,6 +32,7 @@ KINDS = {"fluid": FLUID, "wall": WALL}
 BASE_VECTORS = ("position", "velocity")
 BASE_SCALARS = ("density", "pressure", "mass")
 BASE_INTEGERS = ("id", "material", "kind")
+VARIABLE_H = "h"  # per-particle smoothing length, when a term varies it
 
 
 class Layout:

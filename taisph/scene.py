@@ -31,12 +31,31 @@ class Material:
     rho0: float = 1000.0
     c0: float = 50.0
     gamma: float = 7.0
+    _positive = ("rho0", "c0", "gamma")  # constants check() requires (not a dataclass field)
 
     def check(self):
-        for key in ("rho0", "c0", "gamma"):
+        for key in self._positive:
             v = getattr(self, key)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"material {self.name!r}: {key} must be a positive number, got {v!r}")
+
+
+@dataclass
+class Gas(Material):
+    """An ideal gas (use with ``Scene(eos=IdealGas())``): only the ratio of specific
+    heats gamma enters the physics, p = (gamma - 1) rho e. ``rho0`` is only the default
+    density of :meth:`Scene.add_fluid`; the sound speed follows from the state."""
+
+    name: str = "gas"
+    rho0: float = 1.0
+    c0: float | None = None
+    gamma: float = 1.4
+    _positive = ("rho0", "gamma")
+
+    def check(self):
+        super().check()
+        if self.gamma <= 1.0:
+            raise ValueError(f"gas {self.name!r}: gamma must be > 1, got {self.gamma!r}")
 
 
 @dataclass
@@ -153,14 +172,29 @@ class Scene:
             out.update(t.values)
         return out
 
+    def smallest_smoothing_length(self) -> float:
+        """The scene's h, or if a term varies it (``initial(scene)``, e.g. adaptive_h)
+        the smallest initial one."""
+        h = self.smoothing_length
+        for t in self.terms:
+            if hasattr(t, "initial"):
+                h = min(h, float(np.min(t.initial(self), initial=h)))
+        return h
+
     def stable_dt(self, courant: float = 0.2) -> float:
         """A fixed time step from the acoustic CFL condition and the force condition
         (Monaghan 1992 sec. 10; Monaghan 2005 eq. 4.12):
 
             dt = min( C h / (c_max + |v|_max),  C sqrt(h / |g|) ),  C = 0.2.
+
+        c_max is the largest material c0, or for an equation of state that knows it
+        (an ideal gas) the largest initial sound speed; h is the smallest initial
+        smoothing length if it varies. For shocks, which raise the signal speed above
+        its initial value, the gas cases use :func:`taisph.gas.cfl_dt` instead.
         """
-        h = self.smoothing_length
-        c_max = max(m.c0 for m in self.materials)
+        h = self.smallest_smoothing_length()
+        max_sound_speed = getattr(self.eos, "max_sound_speed", None)  # a gas: from its state
+        c_max = max_sound_speed(self) if max_sound_speed else max(m.c0 for m in self.materials)
         v_max = float(np.max(np.linalg.norm(self.velocity, axis=1))) if self.n else 0.0
         dt = courant * h / (c_max + v_max)
         for t in self.terms:
@@ -204,6 +238,8 @@ class Scene:
             raise ValueError(f"scene {self.name!r}: particle {bad[0]} has unknown kind {self.kind[bad[0]]}")
         for m in self.materials:
             m.check()
+        if hasattr(self.eos, "check"):
+            self.eos.check(self)
         if self.kernel not in smoothing.KERNELS:
             raise ValueError(f"unknown kernel {self.kernel!r}; choose one of {', '.join(smoothing.KERNELS)}")
         if self.integrator not in integrators.INTEGRATORS:
@@ -237,7 +273,8 @@ class Scene:
         lines = [
             f"{self.name}: {self.description}".rstrip(": "),
             f"  {self.dim}D, {self.n_fluid} fluid + {self.n_wall} wall particles, dx = {self.dx:g} m, "
-            f"h = {self.smoothing_length:g} m ({self.kernel} kernel), integrator {self.integrator}",
+            f"h {'<=' if 'adaptive_h' in self.terms_by_name else '='} {self.smoothing_length:g} m "
+            f"({self.kernel} kernel), integrator {self.integrator}",
             "  effects: " + ", ".join(t.describe() for t in self.terms),
         ]
         if any(self.periodic):

@@ -16,8 +16,35 @@ import math
 import taichi as ti
 
 
+class _Kernel:
+    """What every kernel shares: its dimension and the evaluation with a smoothing
+    length known only at run time (per particle, for a variable smoothing length;
+    constant-h code uses the precomputed norms of the solver's parameter table)."""
+
+    def __init__(self, dim: int = 2):
+        self.dim = dim
+
+    @ti.func
+    def _inv_h_power(self, h, n: ti.template()):
+        inv = 1.0 / h
+        p = inv
+        for _ in ti.static(range(n - 1)):
+            p *= inv
+        return p
+
+    @ti.func
+    def w_h(self, r, h):
+        """W(r, h) = sigma_d / h^d f(r / h)."""
+        return ti.static(self.sigma(self.dim)) * self._inv_h_power(h, self.dim) * self.f(r / h)
+
+    @ti.func
+    def grad_factor_h(self, r, h):
+        """F with grad_i W(r_ij, h) = F r_ij: sigma_d / h^(d+2) g(r / h)."""
+        return ti.static(self.sigma(self.dim)) * self._inv_h_power(h, self.dim + 2) * self.g(r / h)
+
+
 @ti.data_oriented
-class CubicSpline:
+class CubicSpline(_Kernel):
     """M4 cubic spline, Monaghan & Lattanzio (1985), as in Monaghan (1992) eq. 2.6.
 
     f(q) = 1 - 3/2 q^2 + 3/4 q^3   (0 <= q < 1)
@@ -53,7 +80,7 @@ class CubicSpline:
 
 
 @ti.data_oriented
-class WendlandC2:
+class WendlandC2(_Kernel):
     """Wendland (1995) C2 kernel, in the q in [0, 2] form of Dehnen & Aly (2012).
 
     2D/3D: f(q) = (1 - q/2)^4 (2q + 1),  sigma_2 = 7/(4 pi), sigma_3 = 21/(16 pi).
@@ -65,6 +92,7 @@ class WendlandC2:
     _sigma = {1: 5.0 / 8.0, 2: 7.0 / (4.0 * math.pi), 3: 21.0 / (16.0 * math.pi)}
 
     def __init__(self, dim: int = 2):
+        super().__init__(dim)
         self.one_d = dim == 1
 
     def sigma(self, dim: int) -> float:
@@ -106,7 +134,7 @@ def _gaussian_integral(dim: int, cut: float) -> float:
 
 
 @ti.data_oriented
-class Gaussian:
+class Gaussian(_Kernel):
     """Gaussian kernel truncated at q = 3 and renormalised (Monaghan 1992, eq. 2.5).
 
     f(q) = exp(-q^2) - exp(-9) for q < 3, so W is continuous at the cut-off;
@@ -144,7 +172,7 @@ def make(name: str, dim: int):
         cls = KERNELS[name]
     except KeyError:
         raise ValueError(f"unknown kernel {name!r}; choose one of {', '.join(KERNELS)}") from None
-    return cls(dim) if cls is WendlandC2 else cls()
+    return cls(dim)
 
 
 _evaluators: dict = {}

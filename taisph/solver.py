@@ -30,7 +30,7 @@ import taichi as ti
 
 from . import integrators, runtime, smoothing, stepping
 from .grid import Grid
-from .layout import FLUID, WALL, Layout
+from .layout import FLUID, VARIABLE_H, WALL, Layout
 
 Ctx = collections.namedtuple(
     "Ctx", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill params mat gshape status flags"
@@ -92,11 +92,20 @@ class _ForceSum:
         self.terms = pair_terms
         self.p_inv_h = solver.param_rows["inv_h"]
         self.p_grad_norm = solver.param_rows["grad_norm"]
+        self.h_row = getattr(self.q, VARIABLE_H, -1)
+        self.h_varies = self.h_row >= 0  # compile time: is h per particle?
 
     @ti.func
     def visit(self, s: ti.template(), i, j, rij, r2, rates: ti.template()):
         r = ti.sqrt(r2)
-        grad = (s.params[self.p_grad_norm] * self.kern.g(r * s.params[self.p_inv_h])) * rij
+        grad = rij
+        if ti.static(not self.h_varies):
+            grad = (s.params[self.p_grad_norm] * self.kern.g(r * s.params[self.p_inv_h])) * rij
+        else:
+            # variable h: the mean of both particles' kernel gradients (Hernquist &
+            # Katz 1989), antisymmetric in i, j, so pair forces stay equal and opposite
+            hi, hj = s.Ss[self.h_row, i], s.Ss[self.h_row, j]
+            grad = (0.5 * (self.kern.grad_factor_h(r, hi) + self.kern.grad_factor_h(r, hj))) * rij
         for t in ti.static(self.terms):
             ti.static(_traced(t.name, "pair"))
             t.pair(s, i, j, rij, r, grad, rates)
@@ -113,13 +122,22 @@ class _PassSum:
         self.p_inv_h = solver.param_rows["inv_h"]
         self.p_w_norm = solver.param_rows["w_norm"]
         self.p_grad_norm = solver.param_rows["grad_norm"]
+        self.h_row = getattr(self.q, VARIABLE_H, -1)
+        self.h_varies = self.h_row >= 0
 
     @ti.func
     def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
         r = ti.sqrt(r2)
-        q = r * s.params[self.p_inv_h]
-        w = s.params[self.p_w_norm] * self.kern.f(q)
-        grad = (s.params[self.p_grad_norm] * self.kern.g(q)) * rij
+        w = r
+        grad = rij
+        if ti.static(not self.h_varies):
+            q = r * s.params[self.p_inv_h]
+            w = s.params[self.p_w_norm] * self.kern.f(q)
+            grad = (s.params[self.p_grad_norm] * self.kern.g(q)) * rij
+        else:  # variable h: particle i's own smoothing length (a gather sum)
+            hi = s.Ss[self.h_row, i]
+            w = self.kern.w_h(r, hi)
+            grad = self.kern.grad_factor_h(r, hi) * rij
         ti.static(_traced(self.p.owner, "pass"))
         self.p.pair(s, i, j, rij, r, w, grad, acc)
 

@@ -1,12 +1,16 @@
 """Physical terms, one per module. See :mod:`taisph.terms.base` for the contract."""
 
+from .artificial_conductivity import ArtificialConductivity
 from .artificial_viscosity import ArtificialViscosity
 from .base import NeighbourPass, Term
 from .continuity import Continuity
 from .continuity_colagrossi import ContinuityColagrossi
+from .energy import InternalEnergy
 from .gravity import Gravity
+from .ideal_gas import IdealGas
 from .lennard_jones import LennardJonesWall
 from .pressure_gradient import PressureGradient
+from .smoothing_length import AdaptiveSmoothingLength
 from .summation_density import SummationDensity
 from .pressure_hu_adams import PressureHuAdams
 from .tait import Tait
@@ -25,4 +29,8 @@ __all__ = [
     "XSPH",
     "ContinuityColagrossi",
     "PressureHuAdams",
+    "IdealGas",
+    "InternalEnergy",
+    "ArtificialConductivity",
+    "AdaptiveSmoothingLength",
 ]

@@ -5,9 +5,19 @@
     Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab   if v_ab . r_ab < 0, else 0,
     mu_ab = h v_ab . r_ab / (r_ab^2 + eta^2),  eta^2 = 0.01 h^2,
 
-with c_ab and rho_ab the pair means of sound speed and density. Monaghan (1992)
-eq. 4.1-4.2; Monaghan (1994) p. 400. The seed's eq. 10 omits c_ab; it is required
-for alpha to be dimensionless, as in Monaghan's papers. Fluid neighbours only.
+with c_ab and rho_ab the pair means of sound speed and density (and h_ab the pair mean
+of the smoothing lengths when they vary). Monaghan (1992) eq. 4.1-4.2; Monaghan (1994)
+p. 400. The seed's eq. 10 omits c_ab; it is required for alpha to be dimensionless, as
+in Monaghan's papers. Fluid neighbours only.
+
+When the scene evolves internal energy (:class:`taisph.terms.InternalEnergy`), the
+viscosity also heats the gas by the work it takes from the motion,
+
+    de_a/dt += 1/2 sum_b m_b Pi_ab (v_a - v_b) . grad_a W_ab,
+
+so that the kinetic energy it dissipates becomes heat and total energy is conserved
+(pair by pair, with the compatible energy equation). For shocks in a gas use
+alpha ~ 1 and beta ~ 2; for liquids beta = 0 and a small alpha.
 """
 
 import taichi as ti
@@ -25,6 +35,11 @@ class ArtificialViscosity(Term):
     params = {"alpha": 0.1, "beta": 0.0, "eta_factor": 0.01}
     has_pair = True
 
+    def bound(self, *args, **kwargs):
+        t = super().bound(*args, **kwargs)
+        t.heats = "d_energy" in t.r._fields  # compile-time: is internal energy evolved?
+        return t
+
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
@@ -32,9 +47,11 @@ class ArtificialViscosity(Term):
             vij = s.Sv[q.velocity, i] - s.Sv[q.velocity, j]
             vr = vij.dot(rij)
             if vr < 0.0:
-                h = s.params[self.p_h]  # (p_h: set by Term.bound)
+                h = self.h_pair(s, i, j)
                 mu = h * vr / (r * r + s.params[self.p.eta_factor] * h * h)
                 c_ab = 0.5 * (self.eos.sound_speed(s, i) + self.eos.sound_speed(s, j))
                 rho_ab = 0.5 * (s.Ss[q.density, i] + s.Ss[q.density, j])
                 pi_ab = (-s.params[self.p.alpha] * c_ab * mu + s.params[self.p.beta] * mu * mu) / rho_ab
                 rates.acc -= s.Ss[q.mass, j] * pi_ab * grad
+                if ti.static(self.heats):
+                    rates.d[self.r.d_energy] += 0.5 * s.Ss[q.mass, j] * pi_ab * vij.dot(grad)

@@ -50,6 +50,8 @@ import collections
 import numpy as np
 import taichi as ti
 
+from ..layout import VARIABLE_H
+
 
 class Term:
     name = ""
@@ -88,6 +90,8 @@ class Term:
         t.p_inv_h = param_rows.get("inv_h")
         t.p_w_norm = param_rows.get("w_norm")
         t.p_h = param_rows.get("smoothing_length")
+        t.h_row = getattr(layout.q, VARIABLE_H, -1)  # per-particle h, if a term varies it
+        t.h_varies = t.h_row >= 0
         t.q = layout.q
         names = list(self.params) or ["none"]
         t.p = collections.namedtuple("ParamRows", names)(*[param_rows.get(k, -1) for k in names])
@@ -116,8 +120,27 @@ class Term:
 
     @ti.func
     def w(self, s: ti.template(), r):
-        """The kernel value W(r, h), for terms that need it besides the gradient."""
+        """The kernel value W(r, h), for terms that need it besides the gradient
+        (the scene's constant h; see :meth:`w_of` for a variable one)."""
         return s.params[self.p_w_norm] * self.kernel.f(r * s.params[self.p_inv_h])
+
+    @ti.func
+    def h_pair(self, s: ti.template(), i, j):
+        """Smoothing length of the pair (i, j): the mean of theirs if h varies."""
+        h = s.params[self.p_h]
+        if ti.static(self.h_varies):
+            h = 0.5 * (s.Ss[self.h_row, i] + s.Ss[self.h_row, j])
+        return h
+
+    @ti.func
+    def w_of(self, s: ti.template(), r, i):
+        """W(r, h_i), the kernel with particle i's smoothing length."""
+        result = r
+        if ti.static(not self.h_varies):
+            result = self.w(s, r)
+        else:
+            result = self.kernel.w_h(r, s.Ss[self.h_row, i])
+        return result
 
     def passes(self) -> list:
         """Neighbour passes this term needs before the force pass (bound copies)."""

@@ -7,6 +7,8 @@ cannot drift; but it is deficient near free surfaces and boundaries, where the k
 support is not full. By default only fluid neighbours count (``include_walls=True``
 adds wall particles, for wall models whose particles carry a density). Runs as a
 neighbour pass before the force pass, then re-evaluates the equation of state.
+With a variable smoothing length (:mod:`taisph.terms.smoothing_length`) the sum uses
+each particle's own h, rho_a = sum_b m_b W(r_ab, h_a).
 """
 
 import taichi as ti
@@ -42,7 +44,7 @@ class _DensitySum(NeighbourPass):
 
     @ti.func
     def init(self, s: ti.template(), i):
-        return s.Ss[self.q.mass, i] * self.t.w(s, 0.0)
+        return s.Ss[self.q.mass, i] * self.t.w_of(s, 0.0, i)
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, w, grad, acc: ti.template()):
