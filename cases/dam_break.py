@@ -4,8 +4,11 @@ import math
 
 import numpy as np
 
-from taisph.scene import Material, Scene, box_walls, lattice
-from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient, tait
+from taisph.scene import Material, Scene, box_walls, lattice, wall_layers
+from taisph.terms import (AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall,
+                          PressureGradient, XSPH, tait)
+
+WALL_MODELS = ("lj", "dummy")
 
 
 def dam_break(
@@ -20,6 +23,9 @@ def dam_break(
     g: float = 9.81,
     kernel: str = "spline",
     integrator: str = "pc",
+    walls: str = "lj",
+    delta: float | None = None,
+    xsph: float | None = None,
     t_end: float = 2.0,
     frames: int = 50,
 ) -> Scene:
@@ -30,27 +36,41 @@ def dam_break(
     Tait water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed),
     Lennard-Jones walls (seed eq. 13) of particles dx/2 apart with r0 = dx/2 and
     D = 5 g H / r0. The column starts in hydrostatic equilibrium (inverse Tait).
+
+    walls: "lj" (Lennard-Jones, the default) or "dummy" (layers of dummy particles
+    with pressure extrapolated from the fluid, Adami et al. 2012: correct wall
+    pressure, no gap). delta: density diffusion (delta-SPH with hydrostatic
+    correction) coefficient, e.g. 0.1; None for none. xsph: XSPH epsilon, None for none.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break")
+                      kernel, integrator, t_end, frames, "dam_break", walls=walls, delta=delta, xsph=xsph)
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-               kernel, integrator, t_end, frames, name):
+               kernel, integrator, t_end, frames, name, walls="lj", delta=None, xsph=None, description=None):
+    if walls not in WALL_MODELS:
+        raise ValueError(f"walls must be one of {', '.join(WALL_MODELS)}, got {walls!r}")
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
-    spacing = dx / 2.0
-    r0 = dx / 2.0
     up = dim - 1  # index of the vertical axis (y in 2D and 3D)
     gravity = [0.0] * dim
     gravity[up] = -g
+    dummy = walls == "dummy"
     terms = [
-        Continuity(),
-        PressureGradient(),
+        Continuity(walls=dummy),
+        PressureGradient(walls=dummy),
         ArtificialViscosity(alpha=alpha),
         Gravity(gravity=tuple(gravity)),
-        LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0),
     ]
+    if dummy:
+        terms.append(AdamiWall())
+    else:
+        r0 = dx / 2.0
+        terms.append(LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0))
+    if delta is not None:
+        terms.append(DensityDiffusion(delta=delta))
+    if xsph is not None:
+        terms.append(XSPH(xsph_eps=xsph))
     column_hi = [width, height] + ([depth] if dim == 3 else [])  # x along the flow, y up, z across
     tank_hi = [tank_width, tank_height] + ([depth] if dim == 3 else [])
     lo = [0.0] * dim
@@ -67,11 +87,17 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         integrator=integrator,
         t_end=t_end,
         frames=frames,
-        description=f"{width:g} m x {height:g} m water column collapsing in a {tank_width:g} m tank",
+        description=description or f"{width:g} m x {height:g} m water column collapsing in a {tank_width:g} m tank",
     )
     fluid = lattice(lo, column_hi, dx)
     depth_below_surface = height - fluid[:, up]
     rho = tait.density(water.rho0 * g * depth_below_surface, water.rho0, water.c0, water.gamma)
     scene.add_fluid(fluid, density=rho)
-    scene.add_walls(box_walls(lo, tank_hi, spacing, vertical_axis=up))
+    if dummy:
+        layers = math.ceil(scene.support_radius / dx - 1e-9)
+        pad = layers * dx
+        scene.domain = (np.array(lo) - pad - dx, np.array(tank_hi) + pad + dx)
+        scene.add_walls(wall_layers(lo, tank_hi, dx, layers, vertical_axis=up))
+    else:
+        scene.add_walls(box_walls(lo, tank_hi, dx / 2.0, vertical_axis=up))
     return scene
