@@ -24,6 +24,7 @@ def dam_break(
     kernel: str = "spline",
     integrator: str = "pc",
     walls: str = "lj",
+    wall_friction: bool = True,
     delta: float | None = None,
     xsph: float | None = None,
     t_end: float = 2.0,
@@ -43,11 +44,12 @@ def dam_break(
     correction) coefficient, e.g. 0.1; None for none. xsph: XSPH epsilon, None for none.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break", walls=walls, delta=delta, xsph=xsph)
+                      kernel, integrator, t_end, frames, "dam_break", walls=walls, wall_friction=wall_friction,
+                      delta=delta, xsph=xsph)
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-               kernel, integrator, t_end, frames, name, walls="lj", delta=None, xsph=None, description=None):
+               kernel, integrator, t_end, frames, name, walls="lj", wall_friction=True, delta=None, xsph=None, description=None):
     if walls not in WALL_MODELS:
         raise ValueError(f"walls must be one of {', '.join(WALL_MODELS)}, got {walls!r}")
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
@@ -59,7 +61,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
     terms = [
         Continuity(walls=dummy),
         PressureGradient(walls=dummy),
-        ArtificialViscosity(alpha=alpha),
+        ArtificialViscosity(alpha=alpha, walls=dummy and wall_friction),
         Gravity(gravity=tuple(gravity)),
     ]
     if dummy:

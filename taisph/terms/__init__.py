@@ -8,6 +8,7 @@ from .density_diffusion import DensityDiffusion
 from .gravity import Gravity
 from .laminar_viscosity import LaminarViscosity
 from .lennard_jones import LennardJonesWall
+from .particle_shifting import ParticleShifting
 from .pressure_gradient import PressureGradient
 from .summation_density import SummationDensity
 from .tait import Tait
@@ -27,4 +28,5 @@ __all__ = [
     "AdamiWall",
     "LaminarViscosity",
     "DensityDiffusion",
+    "ParticleShifting",
 ]

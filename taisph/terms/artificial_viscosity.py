@@ -7,7 +7,12 @@
 
 with c_ab and rho_ab the pair means of sound speed and density. Monaghan (1992)
 eq. 4.1-4.2; Monaghan (1994) p. 400. The seed's eq. 10 omits c_ab; it is required
-for alpha to be dimensionless, as in Monaghan's papers. Fluid neighbours only.
+for alpha to be dimensionless, as in Monaghan's papers. Fluid neighbours only by
+default; ``walls=True`` includes wall particles (dummy walls, :class:`taisph.terms.AdamiWall`:
+their density from the wall pressure, their own prescribed velocity) as DualSPHysics
+does for its boundary particles. Then the wall exerts a numerical friction on fluid
+sliding along it, of the order of the artificial kinematic viscosity
+nu_art = alpha h c0 / 8 (2D; Monaghan 2005 sec. 4.6), which shrinks with h.
 """
 
 import taichi as ti
@@ -25,10 +30,22 @@ class ArtificialViscosity(Term):
     params = {"alpha": 0.1, "beta": 0.0, "eta_factor": 0.01}
     has_pair = True
 
+    def __init__(self, walls: bool = False, **values):
+        super().__init__(**values)
+        self.options = {"walls": bool(walls)}
+
+    def check(self, scene):
+        if self.options["walls"] and "dummy_walls" not in scene.terms_by_name:
+            raise ValueError("ArtificialViscosity(walls=True) needs dummy walls (AdamiWall): "
+                             "wall particles must carry a density")
+
+    def describe(self):
+        return super().describe()[:-1] + (", walls)" if self.options["walls"] else ")")
+
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
-        if s.Si[q.kind, j] == FLUID:
+        if ti.static(self.options["walls"]) or s.Si[q.kind, j] == FLUID:
             vij = s.Sv[q.velocity, i] - s.Sv[q.velocity, j]
             vr = vij.dot(rij)
             if vr < 0.0:
