@@ -24,7 +24,7 @@ def dam_break(
     kernel: str = "spline",
     integrator: str = "pc",
     walls: str = "lj",
-    wall_friction: bool = True,
+    wall_friction: bool = False,
     delta: float | None = None,
     xsph: float | None = None,
     t_end: float = 2.0,
@@ -40,8 +40,11 @@ def dam_break(
 
     walls: "lj" (Lennard-Jones, the default) or "dummy" (layers of dummy particles
     with pressure extrapolated from the fluid, Adami et al. 2012: correct wall
-    pressure, no gap). delta: density diffusion (delta-SPH with hydrostatic
-    correction) coefficient, e.g. 0.1; None for none. xsph: XSPH epsilon, None for none.
+    pressure, no gap). wall_friction (dummy walls only): artificial viscosity also
+    between fluid and wall particles with the no-slip wall velocity - a numerical
+    friction that slows the front but holds water on the back wall (docs/accuracy.md).
+    delta: density diffusion (delta-SPH with hydrostatic correction) coefficient,
+    e.g. 0.1; None for none. xsph: XSPH epsilon, None for none.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
                       kernel, integrator, t_end, frames, "dam_break", walls=walls, wall_friction=wall_friction,
@@ -49,7 +52,7 @@ def dam_break(
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-               kernel, integrator, t_end, frames, name, walls="lj", wall_friction=True, delta=None, xsph=None, description=None):
+               kernel, integrator, t_end, frames, name, walls="lj", wall_friction=False, delta=None, xsph=None, description=None):
     if walls not in WALL_MODELS:
         raise ValueError(f"walls must be one of {', '.join(WALL_MODELS)}, got {walls!r}")
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0

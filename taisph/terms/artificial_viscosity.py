@@ -8,11 +8,12 @@
 with c_ab and rho_ab the pair means of sound speed and density. Monaghan (1992)
 eq. 4.1-4.2; Monaghan (1994) p. 400. The seed's eq. 10 omits c_ab; it is required
 for alpha to be dimensionless, as in Monaghan's papers. Fluid neighbours only by
-default; ``walls=True`` includes wall particles (dummy walls, :class:`taisph.terms.AdamiWall`:
-their density from the wall pressure, their own prescribed velocity) as DualSPHysics
-does for its boundary particles. Then the wall exerts a numerical friction on fluid
+default; ``walls=True`` includes the particles of dummy walls (:class:`taisph.terms.AdamiWall`)
+with the density it gives them and its no-slip wall velocity, as Adami et al. (2012)
+treat the viscous term at walls. Then the wall exerts a numerical friction on fluid
 sliding along it, of the order of the artificial kinematic viscosity
-nu_art = alpha h c0 / 8 (2D; Monaghan 2005 sec. 4.6), which shrinks with h.
+nu_art = alpha h c0 / 8 (2D; Monaghan 2005 sec. 4.6), which shrinks with h: a
+friction of numerical origin, not water's (see docs/accuracy.md, dam break).
 """
 
 import taichi as ti
@@ -46,7 +47,11 @@ class ArtificialViscosity(Term):
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
         if ti.static(self.options["walls"]) or s.Si[q.kind, j] == FLUID:
-            vij = s.Sv[q.velocity, i] - s.Sv[q.velocity, j]
+            vj = s.Sv[q.velocity, j]
+            if ti.static(self.options["walls"]):
+                if s.Si[q.kind, j] != FLUID:
+                    vj = s.Sv[q.wall_velocity, j]
+            vij = s.Sv[q.velocity, i] - vj
             vr = vij.dot(rij)
             if vr < 0.0:
                 h = s.params[self.p_h]  # (p_h: set by Term.bound)
