@@ -13,7 +13,9 @@ sources in the headers). Tolerances and measured values: ``docs/validation.md``.
     >>> out.error, out.wall, out.steps                     # doctest: +SKIP
 
 A run that blows up (non-finite state, or particles far outside the domain) stops at
-the next sample and returns ``error = inf`` and ``diverged = True``.
+the next sample and returns ``error = inf`` and ``diverged = True``. Besides the case's
+parameters every function takes ``precision`` ("f32"/"f64") and ``dt_factor`` (the
+case's time step is multiplied by it).
 """
 
 from __future__ import annotations
@@ -73,7 +75,11 @@ class _Runner:
     def __init__(self, case, params, precision):
         from . import cases
 
+        params = dict(params)
+        dt_factor = params.pop("dt_factor", 1.0)
         self.scene = getattr(cases, case)(**params)
+        if dt_factor != 1.0:
+            self.scene.dt = (self.scene.dt or self.scene.stable_dt()) * dt_factor
         start = time.perf_counter()
         self.sim = Simulation(self.scene, precision=precision)
         self.setup = time.perf_counter() - start
