@@ -266,6 +266,7 @@ def main(argv=None):
     runs = plan(cases, args.quick)
     command = "python tools/accuracy_cost.py" + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip()
     print(f"{len(runs)} runs: {', '.join(cases)}", flush=True)
+    load_start = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     start = time.perf_counter()
     rows = []
     for k, run in enumerate(runs, 1):
@@ -283,6 +284,7 @@ def main(argv=None):
               f"error={fmt(row['error'])} wall={fmt(row['wall_s'])} s ({time.perf_counter() - t0:.1f} s) "
               f"{row['failure']}", flush=True)
     total = time.perf_counter() - start
+    load_end = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     # table order: per case, configurations and resolutions as listed in STUDY (the f32 runs
     # were only moved to the end to run them together)
     order = {}
@@ -306,7 +308,9 @@ def main(argv=None):
               f"Python {platform.python_version()}, {os.cpu_count()} cores, "
               f"{taisph.runtime.current().threads} thread(s)). Wall time: stepping only, "
               f"{'median of %d runs' % args.repeat if args.repeat > 1 else 'one run'} per point, on a shared machine "
-              f"(differences below ~30 % are noise). Order: least-squares slope of log(error) against log(dx).")
+              f"(1-minute load average {load_start:.1f} at the start, {load_end:.1f} at the end, on "
+              f"{os.cpu_count()} cores: other jobs shared the machine; differences below ~30 % are noise). "
+              f"Order: least-squares slope of log(error) against log(dx).")
     write_markdown(folder / "accuracy_cost.md", rows, header)
     plots = write_plots(folder, rows)
     print(f"done in {total / 60:.1f} min: {folder / 'accuracy_cost.csv'}, {folder / 'accuracy_cost.md'}, "
