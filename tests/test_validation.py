@@ -13,9 +13,10 @@ from taisph import validation
 
 # --- hydrostatic tank -------------------------------------------------------------------------
 def test_hydrostatic_tank_dummy_walls():
-    """Still water, dx = H/10, 1 s (~60 acoustic periods H/c0), dummy walls: rms pressure
-    error below 1 % of rho g H (measured 0.2 %), velocities small and not growing,
-    surface flat to 5 % of dx, no particle through a wall."""
+    """Still water, dx = H/10, 1 s (~60 acoustic periods H/c0), dummy walls and delta-SPH
+    (the case's defaults): rms pressure error below 1 % of rho g H (measured 0.2 %),
+    velocities small and not growing over that second, surface flat to 5 % of dx, no
+    particle through a wall."""
     out = validation.hydrostatic_tank(dx=0.05, t_end=1.0)
     m = out.metrics
     assert out.error < 0.01
@@ -41,7 +42,7 @@ def test_density_diffusion_needs_its_hydrostatic_correction():
 
     corrected = validation.hydrostatic_tank(dx=0.05, t_end=1.0, delta=0.1)
     assert corrected.error < 0.01
-    scene = taisph.cases.hydrostatic_tank(dx=0.05)
+    scene = taisph.cases.hydrostatic_tank(dx=0.05, delta=None)
     scene.terms.append(DensityDiffusion(delta=0.1, hydrostatic=False))
     sim = taisph.Simulation(scene)
     sim.run(1.0, frames=1)
@@ -140,12 +141,16 @@ def test_dam_break_at_reference_resolution():
 
 @pytest.mark.slow
 def test_hydrostatic_tank_long_run():
-    """dx = H/20, 10 s (~600 acoustic periods): rms pressure error below 1 %, max speed
-    decaying, no penetration."""
+    """dx = H/20, 10 s (~600 acoustic periods), dummy walls and delta-SPH 0.1 (the case's
+    defaults): rms pressure error below 1 % (measured 0.54 %), speeds bounded by 1 % of
+    sqrt(g H), no penetration. Not asserted, because it is not true: that the speeds decay.
+    After ~2-3 s the square particle lattice rearranges and spurious speeds of ~0.3-0.5 %
+    of sqrt(g H) persist (docs/accuracy.md). Without delta-SPH a zig-zag pressure mode of
+    the floor row grows as well (measured 2.6 % rms over the second half)."""
     out = validation.hydrostatic_tank(dx=0.025, t_end=10.0, samples=50)
     m = out.metrics
     assert out.error < 0.01
-    assert m["vmax_last_quarter"] <= m["vmax_first_quarter"]
+    assert m["vmax_last_quarter"] < 0.01
     assert m["particles_outside"] == 0
 
 

@@ -67,7 +67,7 @@ STUDY = {
     ),
     "hydrostatic_tank": dict(
         levels=[0.05, 0.025, 0.0125], quick=[0.1, 0.05], fixed=dict(t_end=1.0),
-        base=dict(walls="dummy"),
+        base=dict(walls="dummy", delta=None),
         variants=[
             ("base: dummy walls, spline, pc, f64", {}, F64),
             ("Lennard-Jones walls", dict(walls="lj"), F64),

@@ -30,17 +30,19 @@ RUNS = [
     ("dam_break", dict(dx=0.02)),
     ("dam_break", dict(dx=0.02, walls="dummy")),
     ("dam_break", dict(dx=0.02, walls="dummy", wall_friction=True)),
-    ("hydrostatic_tank", dict(dx=0.025, t_end=10.0, samples=50)),
-    ("hydrostatic_tank", dict(dx=0.025, t_end=10.0, samples=50, walls="lj")),
     ("hydrostatic_tank", dict(dx=0.025, t_end=10.0, samples=50, delta=0.1)),
+    ("hydrostatic_tank", dict(dx=0.025, t_end=10.0, samples=50, delta=None)),
+    ("hydrostatic_tank", dict(dx=0.025, t_end=10.0, samples=50, delta=None, walls="lj")),
     ("poiseuille", dict(dx=5e-5)),
     ("poiseuille", dict(dx=2.5e-5)),
     ("couette", dict(dx=5e-5)),
     ("couette", dict(dx=2.5e-5)),
     ("taylor_green", dict(dx=1 / 50)),
+    ("taylor_green", dict(dx=1 / 50, precision="f32")),
     ("taylor_green", dict(dx=1 / 50, delta=None)),
     ("taylor_green", dict(dx=1 / 50, shifting=False, delta=None)),
     ("elliptical_drop", dict(dx=0.025)),
+    ("elliptical_drop", dict(dx=0.025, kernel="wendland")),
 ]
 
 
@@ -60,7 +62,11 @@ def main(argv=None):
     start = time.perf_counter()
     lines = []
     for case, params in runs:
-        out = validation.run(case, **params)
+        params = dict(params)
+        precision = params.pop("precision", "f64")  # explicit: the runtime keeps the last precision otherwise
+        out = validation.run(case, precision=precision, **params)
+        if precision != "f64":
+            params["precision"] = precision
         shown = ", ".join(f"{k}={fmt(v)}" for k, v in params.items())
         metrics = ", ".join(f"{k} {fmt(v)}" for k, v in out.metrics.items() if k != "t_end")
         err = "diverged" if out.diverged else fmt(out.error)
