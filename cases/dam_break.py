@@ -44,7 +44,7 @@ def dam_break(
     between fluid and wall particles with the no-slip wall velocity - a numerical
     friction that slows the front but holds water on the back wall (docs/accuracy.md).
     delta: density diffusion (delta-SPH with hydrostatic correction) coefficient,
-    e.g. 0.1; None for none. xsph: XSPH epsilon, None for none.
+    e.g. 0.1; 0 or None for none. xsph: XSPH epsilon, 0 or None for none.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
                       kernel, integrator, t_end, frames, "dam_break", walls=walls, wall_friction=wall_friction,
@@ -72,9 +72,9 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
     else:
         r0 = dx / 2.0
         terms.append(LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0))
-    if delta is not None:
+    if delta:  # None or 0: no term
         terms.append(DensityDiffusion(delta=delta))
-    if xsph is not None:
+    if xsph:  # None or 0: no term
         terms.append(XSPH(xsph_eps=xsph))
     column_hi = [width, height] + ([depth] if dim == 3 else [])  # x along the flow, y up, z across
     tank_hi = [tank_width, tank_height] + ([depth] if dim == 3 else [])

@@ -32,15 +32,15 @@ def elliptical_drop(
     The density starts at the value that gives the exact initial pressure
     p = rho0 R^2 A0^2/2 (1 - r^2/R^2). alpha: Monaghan artificial viscosity (0.1 as
     in PySPH's WCSPH scheme; 0 to switch off); delta: density diffusion
-    coefficient (None: off); xsph: XSPH epsilon (None: off).
+    coefficient (0 or None: off); xsph: XSPH epsilon (0 or None: off).
     """
     fluid = Material("fluid", rho0=rho0, c0=c0, gamma=7.0)
     terms = [Continuity(), PressureGradient()]
     if alpha:
         terms.append(ArtificialViscosity(alpha=alpha))
-    if delta is not None:
+    if delta:  # None or 0: no term
         terms.append(DensityDiffusion(delta=delta, hydrostatic=False))
-    if xsph is not None:
+    if xsph:  # None or 0: no term
         terms.append(XSPH(xsph_eps=xsph))
     h = h_factor * dx
     scene = Scene(name="elliptical_drop", dim=2, dx=dx, smoothing_length=h,

@@ -26,7 +26,7 @@ def hydrostatic_tank(
     Defaults: 1 m x 0.5 m, dx = 0.025 m (800 particles), c0 = 10 sqrt(2 g H), alpha =
     0.1, dummy walls (walls="dummy"; "lj" gives the seed's Lennard-Jones walls),
     2 s (about 120 acoustic periods H/c0). delta: density diffusion coefficient
-    (with the hydrostatic correction), 0.1 by default, None for none: without it a
+    (with the hydrostatic correction), 0.1 by default, 0 or None for none: without it a
     zig-zag pressure mode of the particle row on the floor grows after ~3 s (rms
     pressure error 1.7 % at 8 s with dx = 0.05 m, 0.09 % with delta = 0.1).
     """

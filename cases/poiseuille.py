@@ -32,7 +32,7 @@ def poiseuille(
     m/s (Mach 2.5e-3; Morris et al.'s criterion c0^2 >= F L / 0.01 asks for 4.5e-3).
     dt = min(acoustic CFL, 0.125 h^2/nu), the viscous limit of Morris et al.
     delta: density diffusion coefficient (no hydrostatic correction: the body force
-    is balanced by the walls' shear, not by pressure), None for none.
+    is balanced by the walls' shear, not by pressure), 0 or None for none.
     """
     return _channel("poiseuille", dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_end, frames,
                     force=F, wall_speed=0.0,
@@ -52,7 +52,7 @@ def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_e
         Gravity(gravity=(force, 0.0)),
         AdamiWall(),
     ]
-    if delta is not None:
+    if delta:  # None or 0: no term
         terms.append(DensityDiffusion(delta=delta, hydrostatic=False))
     h = h_factor * dx
     scene = Scene(name=name, dim=2, dx=dx, smoothing_length=h, domain=((0.0, 0.0), (1.0, 1.0)),

@@ -34,8 +34,8 @@ def taylor_green(
     viscosity; no artificial viscosity unless `alpha` is set. shifting: particle
     shifting (Sun et al. 2017) with U as reference speed - on by default: without it
     the lattice tears at the vortices' stagnation points by t ~ 0.2 and the solution
-    is lost. delta: density diffusion coefficient (0.1 by default, None: off);
-    xsph: XSPH epsilon (None: off). dt = min(acoustic CFL, 0.125 h^2/nu).
+    is lost. delta: density diffusion coefficient (0.1 by default, 0 or None: off);
+    xsph: XSPH epsilon (0 or None: off). dt = min(acoustic CFL, 0.125 h^2/nu).
     """
     n = round(L / dx)
     if n < 8 or not math.isclose(n * dx, L, rel_tol=1e-9):
@@ -46,9 +46,9 @@ def taylor_green(
     terms = [Continuity(), PressureGradient(), LaminarViscosity(nu=nu)]
     if alpha is not None:
         terms.append(ArtificialViscosity(alpha=alpha))
-    if delta is not None:
+    if delta:  # None or 0: no term
         terms.append(DensityDiffusion(delta=delta, hydrostatic=False))
-    if xsph is not None:
+    if xsph:  # None or 0: no term
         terms.append(XSPH(xsph_eps=xsph))
     if shifting:
         terms.append(ParticleShifting(shift_speed=U))
