@@ -4,8 +4,11 @@ import math
 
 import numpy as np
 
-from taisph.scene import Material, Scene, box_walls, lattice
-from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient, tait
+from taisph.scene import Material, Scene, box_walls, lattice, wall_layers
+from taisph.terms import (AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall,
+                          PressureGradient, XSPH, tait)
+
+WALL_MODELS = ("lj", "dummy")
 
 
 def dam_break(
@@ -20,6 +23,10 @@ def dam_break(
     g: float = 9.81,
     kernel: str = "spline",
     integrator: str = "pc",
+    walls: str = "lj",
+    wall_friction: bool = False,
+    delta: float | None = None,
+    xsph: float | None = None,
     t_end: float = 2.0,
     frames: int = 50,
     closed_top: bool = False,
@@ -34,27 +41,46 @@ def dam_break(
     The tank is open at the top (late splashes can go over a wall and leave the
     domain, which stops the run unless escaped particles are removed) unless
     `closed_top`.
+
+    walls: "lj" (Lennard-Jones, the default) or "dummy" (layers of dummy particles
+    with pressure extrapolated from the fluid, Adami et al. 2012: correct wall
+    pressure, no gap). wall_friction (dummy walls only): artificial viscosity also
+    between fluid and wall particles with the no-slip wall velocity - a numerical
+    friction that slows the front but holds water on the back wall (docs/accuracy.md).
+    delta: density diffusion (delta-SPH with hydrostatic correction) coefficient,
+    e.g. 0.1; 0 or None for none. xsph: XSPH epsilon, 0 or None for none.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break", closed_top)
+                      kernel, integrator, t_end, frames, "dam_break", walls=walls, wall_friction=wall_friction,
+                      delta=delta, xsph=xsph, closed_top=closed_top)
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-               kernel, integrator, t_end, frames, name, closed_top=False):
+               kernel, integrator, t_end, frames, name, walls="lj", wall_friction=False, delta=None, xsph=None,
+               description=None, closed_top=False):
+    if walls not in WALL_MODELS:
+        raise ValueError(f"walls must be one of {', '.join(WALL_MODELS)}, got {walls!r}")
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
-    spacing = dx / 2.0
-    r0 = dx / 2.0
     up = dim - 1  # index of the vertical axis (y in 2D and 3D)
     gravity = [0.0] * dim
     gravity[up] = -g
+    dummy = walls == "dummy"
     terms = [
-        Continuity(),
-        PressureGradient(),
-        ArtificialViscosity(alpha=alpha),
+        Continuity(walls=dummy),
+        PressureGradient(walls=dummy),
+        ArtificialViscosity(alpha=alpha, walls=dummy and wall_friction),
         Gravity(gravity=tuple(gravity)),
-        LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0),
     ]
+    if dummy:
+        terms.append(AdamiWall())
+    else:
+        r0 = dx / 2.0
+        terms.append(LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0))
+    if delta:  # None or 0: no term
+        terms.append(DensityDiffusion(delta=delta))
+    if xsph:  # None or 0: no term
+        terms.append(XSPH(xsph_eps=xsph))
     column_hi = [width, height] + ([depth] if dim == 3 else [])  # x along the flow, y up, z across
     tank_hi = [tank_width, tank_height] + ([depth] if dim == 3 else [])
     lo = [0.0] * dim
@@ -72,11 +98,18 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         integrator=integrator,
         t_end=t_end,
         frames=frames,
-        description=f"{width:g} m x {height:g} m water column collapsing in a {tank_width:g} m tank",
+        description=description or f"{width:g} m x {height:g} m water column collapsing in a {tank_width:g} m tank",
     )
     fluid = lattice(lo, column_hi, dx)
     depth_below_surface = height - fluid[:, up]
     rho = tait.density(water.rho0 * g * depth_below_surface, water.rho0, water.c0, water.gamma)
     scene.add_fluid(fluid, density=rho)
-    scene.add_walls(box_walls(lo, tank_hi, spacing, vertical_axis=up, open_top=not closed_top))
+    if dummy:
+        layers = math.ceil(scene.support_radius / dx - 1e-9)
+        pad = layers * dx
+        top = np.eye(dim)[up] * (0.5 * tank_height if not closed_top else 0.0)
+        scene.domain = (np.array(lo) - pad - dx, np.array(tank_hi) + pad + dx + top)
+        scene.add_walls(wall_layers(lo, tank_hi, dx, layers, vertical_axis=up, open_top=not closed_top))
+    else:
+        scene.add_walls(box_walls(lo, tank_hi, dx / 2.0, vertical_axis=up, open_top=not closed_top))
     return scene

@@ -26,4 +26,4 @@ def dam_break_3d(
     particles), same physics and defaults as ``dam_break``.
     """
     return _dam_break(3, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break_3d", closed_top)
+                      kernel, integrator, t_end, frames, "dam_break_3d", closed_top=closed_top)

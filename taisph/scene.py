@@ -321,3 +321,26 @@ def box_walls(lo, hi, spacing, layers=1, vertical_axis=None, open_top=True) -> n
                 on_face |= np.isclose(mesh[:, d], b[d])
         pts.append(mesh[on_face])
     return np.concatenate(pts)
+
+
+def wall_layers(lo, hi, dx, layers, vertical_axis=None, open_top=True, periodic=None) -> np.ndarray:
+    """Wall particles for dummy-particle walls: `layers` layers of lattice points, `dx`
+    apart, around the fluid box [lo, hi] (the fluid filling it with :func:`lattice`).
+
+    The particles are cell centres of the same lattice as the fluid's, so the first
+    layer sits dx/2 outside each face and the wall continues the fluid lattice
+    without a gap. The top face (of `vertical_axis`, default the last axis) is left
+    open unless `open_top` is False; the side walls then end at hi. Axes flagged in
+    `periodic` get no walls (the box extent there is the period)."""
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    dim = len(lo)
+    up = dim - 1 if vertical_axis is None else vertical_axis
+    periodic = (False,) * dim if periodic is None else tuple(bool(p) for p in periodic)
+    a = np.where(periodic, lo, lo - layers * dx)
+    b = np.where(periodic, hi, hi + layers * dx)
+    if open_top and not periodic[up]:
+        b[up] = hi[up]
+    pts = lattice(a, b, dx)
+    inside = np.all((pts > lo) & (pts < hi), axis=1)
+    return pts[~inside]

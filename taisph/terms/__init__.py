@@ -1,14 +1,18 @@
 """Physical terms, one per module. See :mod:`taisph.terms.base` for the contract."""
 
+from .adami_wall import AdamiWall
 from .artificial_conductivity import ArtificialConductivity
 from .artificial_viscosity import ArtificialViscosity
 from .base import NeighbourPass, Term
 from .continuity import Continuity
 from .continuity_colagrossi import ContinuityColagrossi
+from .density_diffusion import DensityDiffusion
 from .energy import InternalEnergy
 from .gravity import Gravity
 from .ideal_gas import IdealGas
+from .laminar_viscosity import LaminarViscosity
 from .lennard_jones import LennardJonesWall
+from .particle_shifting import ParticleShifting
 from .pressure_gradient import PressureGradient
 from .smoothing_length import AdaptiveSmoothingLength
 from .summation_density import SummationDensity
@@ -33,4 +37,8 @@ __all__ = [
     "InternalEnergy",
     "ArtificialConductivity",
     "AdaptiveSmoothingLength",
+    "AdamiWall",
+    "LaminarViscosity",
+    "DensityDiffusion",
+    "ParticleShifting",
 ]

@@ -8,7 +8,13 @@
 with c_ab and rho_ab the pair means of sound speed and density (and h_ab the pair mean
 of the smoothing lengths when they vary). Monaghan (1992) eq. 4.1-4.2; Monaghan (1994)
 p. 400. The seed's eq. 10 omits c_ab; it is required for alpha to be dimensionless, as
-in Monaghan's papers. Fluid neighbours only.
+in Monaghan's papers. Fluid neighbours only by default; ``walls=True`` includes the
+particles of dummy walls (:class:`taisph.terms.AdamiWall`) with the density it gives
+them and its no-slip wall velocity, as Adami et al. (2012) treat the viscous term at
+walls. Then the wall exerts a numerical friction on fluid sliding along it, of the
+order of the artificial kinematic viscosity nu_art = alpha h c0 / 8 (2D; Monaghan
+2005 sec. 4.6), which shrinks with h: a friction of numerical origin, not water's
+(see docs/accuracy.md, dam break).
 
 When the scene evolves internal energy (:class:`taisph.terms.InternalEnergy`), the
 viscosity also heats the gas by the work it takes from the motion,
@@ -35,6 +41,18 @@ class ArtificialViscosity(Term):
     params = {"alpha": 0.1, "beta": 0.0, "eta_factor": 0.01}
     has_pair = True
 
+    def __init__(self, walls: bool = False, **values):
+        super().__init__(**values)
+        self.options = {"walls": bool(walls)}
+
+    def check(self, scene):
+        if self.options["walls"] and "dummy_walls" not in scene.terms_by_name:
+            raise ValueError("ArtificialViscosity(walls=True) needs dummy walls (AdamiWall): "
+                             "wall particles must carry a density")
+
+    def describe(self):
+        return super().describe()[:-1] + (", walls)" if self.options["walls"] else ")")
+
     def bound(self, *args, **kwargs):
         t = super().bound(*args, **kwargs)
         t.heats = "d_energy" in t.r._fields  # compile-time: is internal energy evolved?
@@ -43,8 +61,12 @@ class ArtificialViscosity(Term):
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
-        if s.Si[q.kind, j] == FLUID:
-            vij = s.Sv[q.velocity, i] - s.Sv[q.velocity, j]
+        if ti.static(self.options["walls"]) or s.Si[q.kind, j] == FLUID:
+            vj = s.Sv[q.velocity, j]
+            if ti.static(self.options["walls"]):
+                if s.Si[q.kind, j] != FLUID:
+                    vj = s.Sv[q.wall_velocity, j]
+            vij = s.Sv[q.velocity, i] - vj
             vr = vij.dot(rij)
             if vr < 0.0:
                 h = self.h_pair(s, i, j)

@@ -4,7 +4,8 @@
 
 Monaghan (1992) eq. 3.8; Monaghan (1994) eq. 2.4. Only fluid neighbours contribute:
 wall particles of the Lennard-Jones kind act on the fluid by a force, not through
-the SPH sums (seed section 2).
+the SPH sums (seed section 2). ``walls=True`` includes wall particles with their own
+(prescribed) velocity, for dummy walls (:class:`taisph.terms.AdamiWall`).
 """
 
 import taichi as ti
@@ -19,8 +20,15 @@ class Continuity(Term):
     integrates = {"density": "d_density"}
     has_pair = True
 
+    def __init__(self, walls: bool = False):
+        super().__init__()
+        self.options = {"walls": bool(walls)}
+
+    def describe(self):
+        return "continuity(walls)" if self.options["walls"] else "continuity"
+
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
-        if s.Si[self.q.kind, j] == FLUID:
+        if ti.static(self.options["walls"]) or s.Si[self.q.kind, j] == FLUID:
             vij = s.Sv[self.q.velocity, i] - s.Sv[self.q.velocity, j]
             rates.d[self.r.d_density] += s.Ss[self.q.mass, j] * vij.dot(grad)

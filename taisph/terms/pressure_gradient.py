@@ -4,7 +4,9 @@
 
 Monaghan (1992) eq. 3.3: the symmetric form, which conserves linear and angular
 momentum exactly because every pair contributes equal and opposite forces.
-Fluid neighbours only (see :mod:`taisph.terms.continuity`).
+Fluid neighbours only by default (see :mod:`taisph.terms.continuity`);
+``walls=True`` includes wall particles, for wall models whose particles carry a
+pressure and density (dummy walls, :class:`taisph.terms.AdamiWall`).
 """
 
 import taichi as ti
@@ -20,6 +22,13 @@ class PressureGradient(Term):
     has_derive = True
     scalars = ("p_over_rho2",)
 
+    def __init__(self, walls: bool = False):
+        super().__init__()
+        self.options = {"walls": bool(walls)}
+
+    def describe(self):
+        return "pressure(walls)" if self.options["walls"] else "pressure"
+
     @ti.func
     def derive(self, s: ti.template(), i):
         # P / rho^2 once per particle instead of a division per pair
@@ -28,7 +37,7 @@ class PressureGradient(Term):
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
-        if s.Si[self.q.kind, j] == FLUID:
+        if ti.static(self.options["walls"]) or s.Si[self.q.kind, j] == FLUID:
             q = ti.static(self.q)
             pij = s.Ss[q.p_over_rho2, i] + s.Ss[q.p_over_rho2, j]
             rates.acc -= s.Ss[q.mass, j] * pij * grad

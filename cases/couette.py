@@ -1,0 +1,27 @@
+"""Start-up plane Couette flow: the upper wall starts moving, periodic along the channel (Morris, Fox & Zhu 1997)."""
+
+from .poiseuille import _channel
+
+
+def couette(
+    dx: float = 5e-5,
+    L: float = 1e-3,
+    nu: float = 1e-6,
+    V0: float = 1.25e-5,
+    rho0: float = 1000.0,
+    c0: float = 0.01,
+    h_factor: float = 1.3,
+    kernel: str = "spline",
+    integrator: str = "pc",
+    delta: float | None = None,
+    t_end: float = 1.0,
+    frames: int = 20,
+):
+    """Fluid at rest between walls at y = 0 and y = L (m); at t = 0 the upper wall
+    starts moving along x at V0 (m/s); periodic in x. Morris et al. (1997): L = 1 mm,
+    nu = 1e-6 m^2/s, V0 = 1.25e-5 m/s (Re = 0.0125). Same walls, viscosity, sound speed
+    and time step as ``poiseuille``; no body force.
+    """
+    return _channel("couette", dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_end, frames,
+                    force=0.0, wall_speed=V0,
+                    description=f"start-up Couette flow, L = {L:g} m, nu = {nu:g} m^2/s, V0 = {V0:g} m/s")

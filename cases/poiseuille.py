@@ -1,0 +1,74 @@
+"""Start-up plane Poiseuille flow between no-slip walls, periodic along the channel (Morris, Fox & Zhu 1997)."""
+
+import math
+
+import numpy as np
+
+from taisph.scene import Material, Scene, lattice, wall_layers
+from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, PressureGradient
+
+
+def poiseuille(
+    dx: float = 5e-5,
+    L: float = 1e-3,
+    nu: float = 1e-6,
+    F: float = 2e-4,
+    rho0: float = 1000.0,
+    c0: float = 0.01,
+    h_factor: float = 1.3,
+    kernel: str = "spline",
+    integrator: str = "pc",
+    delta: float | None = None,
+    t_end: float = 1.0,
+    frames: int = 20,
+) -> Scene:
+    """Fluid at rest between walls at y = 0 and y = L (m), driven along x by a body
+    force F (m/s^2) from t = 0; periodic in x. Morris et al. (1997): L = 1 mm,
+    nu = 1e-6 m^2/s, rho0 = 1000, F = 2e-4 m/s^2, so the steady centre-line speed is
+    F L^2/(8 nu) = 2.5e-5 m/s (Re = 0.025). dx = L/20 by default.
+
+    Walls: dummy particles with extrapolated pressure and the no-slip velocity of
+    Adami et al. (2012); Morris laminar viscosity; no artificial viscosity. c0 = 0.01
+    m/s (Mach 2.5e-3; Morris et al.'s criterion c0^2 >= F L / 0.01 asks for 4.5e-3).
+    dt = min(acoustic CFL, 0.125 h^2/nu), the viscous limit of Morris et al.
+    delta: density diffusion coefficient (no hydrostatic correction: the body force
+    is balanced by the walls' shear, not by pressure), 0 or None for none.
+    """
+    return _channel("poiseuille", dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_end, frames,
+                    force=F, wall_speed=0.0,
+                    description=f"start-up Poiseuille flow, L = {L:g} m, nu = {nu:g} m^2/s, F = {F:g} m/s^2")
+
+
+def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_end, frames, force, wall_speed,
+             description):
+    n_across = round(L / dx)
+    if n_across < 4 or not math.isclose(n_across * dx, L, rel_tol=1e-9):
+        raise ValueError(f"dx = {dx:g} must divide the channel width L = {L:g} into at least 4 layers")
+    water = Material("fluid", rho0=rho0, c0=c0, gamma=7.0)
+    terms = [
+        Continuity(walls=True),
+        PressureGradient(walls=True),
+        LaminarViscosity(nu=nu, walls=True),
+        Gravity(gravity=(force, 0.0)),
+        AdamiWall(),
+    ]
+    if delta:  # None or 0: no term
+        terms.append(DensityDiffusion(delta=delta, hydrostatic=False))
+    h = h_factor * dx
+    scene = Scene(name=name, dim=2, dx=dx, smoothing_length=h, domain=((0.0, 0.0), (1.0, 1.0)),
+                  materials=[water], terms=terms, kernel=kernel, integrator=integrator, t_end=t_end,
+                  frames=frames, description=description, periodic=(True, False))
+    support = scene.support_radius
+    # periodic length: at least 3 kernel supports (the neighbour grid's minimum), whole particles
+    n_along = math.ceil(3.0 * support / dx * (1 + 1e-9)) + 1
+    length = n_along * dx
+    layers = math.ceil(support / dx - 1e-9)
+    pad = (layers + 1) * dx
+    scene.domain = (np.array([0.0, -pad]), np.array([length, L + pad]))
+    scene.add_fluid(lattice((0.0, 0.0), (length, L), dx))
+    walls = wall_layers((0.0, 0.0), (length, L), dx, layers, open_top=False, periodic=(True, False))
+    scene.add_walls(walls[walls[:, 1] < 0])
+    scene.add_walls(walls[walls[:, 1] > L], velocity=(wall_speed, 0.0))
+    dt_acoustic = scene.stable_dt()
+    scene.dt = min(dt_acoustic, 0.125 * h * h / nu)
+    return scene

@@ -1,0 +1,115 @@
+"""Dummy wall particles with pressure extrapolated from the fluid (Adami, Hu & Adams
+2012, J. Comput. Phys. 231:7057, eqs. 22-28).
+
+Before every force pass, each wall particle w takes a pressure from the fluid
+particles f around it,
+
+    p_w = ( sum_f p_f W_wf + (g - a_w) . sum_f rho_f r_wf W_wf ) / sum_f W_wf,   r_wf = x_w - x_f,
+
+(the second sum is the hydrostatic head between the fluid and the wall particle), and
+the density that gives that pressure by the inverse equation of state,
+rho_w = rho0 (1 + p_w / B)^(1/gamma). The fluid then sees wall particles in its
+pressure gradient and continuity sums like any neighbour
+(``PressureGradient(walls=True)``, ``Continuity(walls=True)``), so the wall pushes
+back exactly as hard as the fluid presses on it: no gap, no repulsive-force layer,
+and the hydrostatic pressure is right up to the wall.
+
+For viscous (no-slip) walls each wall particle also gets the velocity
+v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf (Adami eq. 23), which
+``LaminarViscosity(walls=True)`` uses; the continuity sum uses the wall's own
+(prescribed) velocity. Walls here move rigidly at constant velocity, so a_w = 0.
+``g`` is the scene's body force (the ``gravity`` parameter of :class:`Gravity`),
+zero without one. A wall particle with no fluid neighbour gets p_w = 0.
+
+Walls need enough layers to fill the kernel support of the fluid next to them:
+ceil(support radius / spacing) layers of particles ``dx`` apart (3 for the cubic
+spline or Wendland with h = 1.3 dx, 4 for the Gaussian). The inverse EOS is floored
+at (1 + p_w/B) >= 0.05 (a wall tension of -0.95 B) so that a wall never gets a
+non-physical density.
+"""
+
+import taichi as ti
+
+from ..layout import FLUID
+from .base import NeighbourPass, Term
+
+
+@ti.data_oriented
+class AdamiWall(Term):
+    name = "dummy_walls"
+    vectors = ("wall_velocity",)
+    outputs = ()
+
+    def bound(self, layout, param_rows, material_cols, eos, rate_rows, kernel=None):
+        t = super().bound(layout, param_rows, material_cols, eos, rate_rows, kernel)
+        # the body force, if the scene has one (the Gravity term's parameter row)
+        t.p_gravity = param_rows.get("gravity")
+        t.has_gravity = t.p_gravity is not None
+        return t
+
+    def passes(self):
+        return [_WallPressure(self)]
+
+    def check(self, scene):
+        if scene.n_wall == 0:
+            raise ValueError("dummy_walls: the scene has no wall particles")
+        terms = scene.terms_by_name
+        for name in ("pressure", "continuity"):
+            t = terms.get(name)
+            if t is None or not t.options.get("walls"):
+                raise ValueError(
+                    f"dummy_walls needs the {name!r} term with walls=True (e.g. PressureGradient(walls=True), "
+                    "Continuity(walls=True)): otherwise the wall pressure acts on nothing"
+                )
+
+
+@ti.data_oriented
+class _WallPressure(NeighbourPass):
+    select = "wall"
+    rederive = True  # pressure, sound speed and P/rho^2 of the wall from its new density
+
+    def __init__(self, term):
+        self.t = term
+        self.q = term.q
+        self.m = term.m
+        self.dim = None
+
+    @ti.func
+    def init(self, s: ti.template(), i):
+        # [sum W, sum p W, sum rho r W (dim), sum v W (dim)]
+        dim = ti.static(s.Sv[self.q.position, i].n)
+        return ti.Vector([0.0] * (2 + 2 * dim))
+
+    @ti.func
+    def pair(self, s: ti.template(), i, j, rij, r, w, grad, acc: ti.template()):
+        q = ti.static(self.q)
+        if s.Si[q.kind, j] == FLUID:
+            dim = ti.static(rij.n)
+            acc[0] += w
+            acc[1] += s.Ss[q.pressure, j] * w
+            rho_w = s.Ss[q.density, j] * w
+            v = s.Sv[q.velocity, j]
+            for d in ti.static(range(dim)):
+                acc[2 + d] += rho_w * rij[d]
+                acc[2 + dim + d] += v[d] * w
+
+    @ti.func
+    def finish(self, s: ti.template(), i, acc):
+        q = ti.static(self.q)
+        m = ti.static(self.m)
+        dim = ti.static(s.Sv[q.position, i].n)
+        v_wall = s.Sv[q.velocity, i]
+        p = 0.0
+        ghost = v_wall
+        if acc[0] > 0.0:
+            head = 0.0
+            if ti.static(self.t.has_gravity):
+                for d in ti.static(range(dim)):
+                    head += s.params[self.t.p_gravity + d] * acc[2 + d]
+            p = (acc[1] + head) / acc[0]
+            for d in ti.static(range(dim)):
+                ghost[d] = 2.0 * v_wall[d] - acc[2 + dim + d] / acc[0]
+        material = s.Si[q.material, i]
+        base = ti.max(1.0 + p / s.mat[material, m.B], 0.05)
+        s.Ss[q.density, i] = s.mat[material, m.rho0] * ti.pow(base, 1.0 / s.mat[material, m.gamma])
+        s.Sv[q.wall_velocity, i] = ghost
