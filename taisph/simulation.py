@@ -478,7 +478,10 @@ class Simulation:
 
         report = diagnosis.collect(self)
         files = []
-        folder = getattr(self, "_out", None) or Path(".")
+        folder = getattr(self, "_out", None)
+        if folder is None:  # no output folder chosen: do not litter the working directory
+            import tempfile
+            folder = Path(tempfile.mkdtemp(prefix=f"taisph-{self.scene.name}-"))
         try:
             files = diagnosis.write_evidence(self, report, folder)
         finally:
