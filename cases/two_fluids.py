@@ -19,6 +19,7 @@ def two_fluids(
     amplitude: float = 0.05,
     alpha: float = 0.1,
     c0: float | None = None,
+    lower_c0: float | None = None,
     h_factor: float = 1.3,
     g: float = 9.81,
     kernel: str = "spline",
@@ -40,8 +41,10 @@ def two_fluids(
     Formulation (sharp interface): momentum after Hu & Adams (2006) and continuity
     after Colagrossi & Landrini (2003), both using each particle's own density and
     volume (``terms/pressure_hu_adams.py``, ``terms/continuity_colagrossi.py``),
-    Tait equation of state per material with its own rho0 and the same c0 = 10
-    sqrt(2 g H), Monaghan viscosity alpha = 0.1, gravity, Lennard-Jones walls as in
+    Tait equation of state per material with its own rho0 and c0 = 10 sqrt(2 g H)
+    (`lower_c0`, default the same c0, sets the lower fluid's: c0 sqrt(density_ratio)
+    gives both fluids the same stiffness B = rho0 c0^2 / gamma, which large density
+    ratios need, docs/stability.md), Monaghan viscosity alpha = 0.1, gravity, Lennard-Jones walls as in
     ``dam_break`` (particles dx/2 apart, r0 = dx/2, D = 5 g H / r0), h = 1.3 dx.
     Each particle's mass is its material's rho0 dx^2; the initial density is
     hydrostatic (the pressure of the fluid above, through each material's inverse
@@ -53,7 +56,8 @@ def two_fluids(
         raise ValueError(f"amplitude must be in [0, height/4), got {amplitude!r}")
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     upper = Material("upper", rho0=upper_density, c0=c0, gamma=7.0)
-    lower = Material("lower", rho0=upper_density / density_ratio, c0=c0, gamma=7.0)
+    lower_c0 = c0 if lower_c0 is None else lower_c0
+    lower = Material("lower", rho0=upper_density / density_ratio, c0=lower_c0, gamma=7.0)
     spacing = r0 = dx / 2.0
     scene = Scene(
         name="two_fluids",

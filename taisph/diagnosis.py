@@ -95,8 +95,8 @@ def explain(sim, report, files=()) -> str:
     lines = [
         f"simulation stopped at step {report['step']}, t = {report['time']:.6g} s"
         + (f" (fixed dt = {report['dt_fixed']:.3g} s)" if report["dt_fixed"] else "")
-        + f": {report['count']} fluid particle(s) with "
-        + ", ".join(report["codes"])
+        + f": {report['count']} fluid particle(s) tripped the guards ("
+        + ", ".join(report["codes"]) + ")"
         + f"; the last state that passed the guards is from step {report['last_good_step']}, "
         f"t = {report['last_good_time']:.6g} s."
     ]

@@ -72,18 +72,19 @@ class Stepping:
     def begin_step(self, s: ti.template(), t_target):
         """Choose this step's dt (serial, once per step) and advance the clock."""
         p = ti.static(self.p)
-        h = s.params[p.smoothing_length]
-        big = 1e300
+        # the clock and dt are f64 whatever the state's precision
+        h = ti.cast(s.params[p.smoothing_length], ti.f64)
+        big = ti.cast(1e300, ti.f64)
         dt_cfl = big
         if s.status[MAX_SIGNAL] > 0.0:
-            dt_cfl = s.params[p.courant] * h / s.status[MAX_SIGNAL]
+            dt_cfl = ti.cast(s.params[p.courant], ti.f64) * h / s.status[MAX_SIGNAL]
         dt_force = big
         if s.status[MAX_ACC2] > 0.0:
-            dt_force = s.params[p.force_factor] * ti.sqrt(h / ti.sqrt(s.status[MAX_ACC2]))
-        dt_stable = ti.min(dt_cfl, dt_force, s.params[p.dt_viscous])
+            dt_force = ti.cast(s.params[p.force_factor], ti.f64) * ti.sqrt(h / ti.sqrt(s.status[MAX_ACC2]))
+        dt_stable = ti.min(dt_cfl, dt_force, ti.cast(s.params[p.dt_viscous], ti.f64))
         dt = ti.cast(s.params[p.dt_fixed], ti.f64)
         if dt <= 0.0:
-            dt = ti.min(dt_stable, s.params[p.dt_max])
+            dt = ti.min(dt_stable, ti.cast(s.params[p.dt_max], ti.f64))
         if s.flags[CODES] != 0:  # a guard tripped: freeze the state for the diagnosis
             dt = 0.0
             s.status[FROZEN] = 1.0
@@ -114,8 +115,14 @@ class Stepping:
         rho = s.Cs[q.density, i]
         acc2 = rates.acc.norm_sqr()
         signal = self.eos.sound_speed(s, i) + v.norm()
-        ti.atomic_max(s.status[MAX_ACC2], ti.cast(acc2, ti.f64))
-        ti.atomic_max(s.status[MAX_SIGNAL], ti.cast(signal, ti.f64))
+        # Read before the atomic: the maxima rarely grow, and a plain read of a line
+        # no thread writes is cheap, while an atomic on it makes both cores fight
+        # over the cache line for every particle.
+        acc2_64, signal_64 = ti.cast(acc2, ti.f64), ti.cast(signal, ti.f64)
+        if acc2_64 > s.status[MAX_ACC2]:
+            ti.atomic_max(s.status[MAX_ACC2], acc2_64)
+        if signal_64 > s.status[MAX_SIGNAL]:
+            ti.atomic_max(s.status[MAX_SIGNAL], signal_64)
         code = 0
         check = x.sum() + v.sum() + rho + acc2
         if not (check - check == 0.0):  # NaN or inf anywhere
