@@ -19,76 +19,87 @@ import taichi as ti
 
 mode = sys.argv[1] if len(sys.argv) > 1 else "nd"
 ti.init(arch=ti.cpu, default_fp=ti.f64)
-n_side=141; dx=1.0/n_side; h=1.3*dx; sup=2*h; G=int(1.0/sup); cell=1.0/G
-N=n_side*n_side
-pos0=np.stack(np.meshgrid((np.arange(n_side)+.5)*dx,(np.arange(n_side)+.5)*dx,indexing='ij'),-1).reshape(-1,2)
-vec=ti.types.vector(2,ti.f64)
-sigma=10/(7*math.pi)/h**2; gn=sigma/h**2
-if mode=="field":
-    X=ti.Vector.field(2,ti.f64,N); V=ti.Vector.field(2,ti.f64,N); R=ti.field(ti.f64,N); A=ti.Vector.field(2,ti.f64,N); D=ti.field(ti.f64,N)
-    start=ti.field(ti.i32,G*G+1)
-    X.from_numpy(pos0); R.fill(1000.)
+n_side = 141
+dx = 1.0 / n_side
+h = 1.3 * dx
+support = 2 * h
+G = int(1.0 / support)  # cells per side
+cell = 1.0 / G
+N = n_side * n_side
+grad_norm = 10 / (7 * math.pi) / h**4  # cubic spline, 2D
+vec = ti.types.vector(2, ti.f64)
+
+# a square lattice, sorted by cell once (the loop reads cell-sorted data)
+axis = (np.arange(n_side) + 0.5) * dx
+pos0 = np.stack(np.meshgrid(axis, axis, indexing="ij"), -1).reshape(-1, 2)
+cell_of = (np.floor(pos0[:, 1] / cell).astype(int) % G) * G + (np.floor(pos0[:, 0] / cell).astype(int) % G)
+order = np.argsort(cell_of, kind="stable")
+starts = np.searchsorted(cell_of[order], np.arange(G * G + 1)).astype(np.int32)
+
+
+@ti.func
+def sums(X: ti.template(), V: ti.template(), R: ti.template(), A: ti.template(), D: ti.template(),
+         start: ti.template()):
+    for i in range(N):
+        xi = X[i]
+        ci = ti.cast(xi / cell, ti.i32)
+        a = ti.Vector([0.0, 0.0])
+        d = 0.0
+        p_i = R[i]  # stands for P/rho^2, precomputed per particle
+        for oy in range(-1, 2):
+            for ox in range(-1, 2):
+                c = ((ci[1] + oy) % G) * G + (ci[0] + ox) % G
+                for j in range(start[c], start[c + 1]):
+                    rij = xi - X[j]
+                    rij -= ti.round(rij)  # periodic unit box
+                    r2 = rij.norm_sqr()
+                    if r2 < support * support and j != i:
+                        q = ti.sqrt(r2) / h
+                        g = 0.0
+                        if q < 1:
+                            g = -3 + 2.25 * q
+                        elif q < 2:
+                            g = -0.75 * (2 - q) ** 2 / q
+                        grad = grad_norm * g * rij
+                        a -= 0.0001 * (p_i + R[j]) * grad
+                        d += 0.0001 * (V[i] - V[j]).dot(grad)
+        A[i] = a
+        D[i] = d
+
+
+if mode == "field":
+    X, V, A = (ti.Vector.field(2, ti.f64, N) for _ in range(3))
+    R, D = ti.field(ti.f64, N), ti.field(ti.f64, N)
+    start = ti.field(ti.i32, G * G + 1)
+
     @ti.kernel
-    def force():
-        for i in range(N):
-            xi=X[i]; ci=ti.cast(xi/cell,ti.i32)
-            a=ti.Vector([0.,0.]); d=0.
-            pi_=1000*20*20/7*((R[i]/1000)**7-1)/R[i]**2
-            for oy in range(-1,2):
-                for ox in range(-1,2):
-                    cx=(ci[0]+ox)%G; cy=(ci[1]+oy)%G; c=cy*G+cx
-                    for j in range(start[c],start[c+1]):
-                        rij=xi-X[j]
-                        rij-= ti.round(rij)
-                        r2=rij.norm_sqr()
-                        if r2<sup*sup and j!=i:
-                            r=ti.sqrt(r2); q=r/h
-                            g=0.
-                            if q<1: g=-3+2.25*q
-                            elif q<2: g=-0.75*(2-q)**2/q
-                            grad=gn*g*rij
-                            pj=R[j]
-                            a-= 0.0001*(pi_+pj)*grad
-                            d+=0.0001*(V[i]-V[j]).dot(grad)
-            A[i]=a; D[i]=d
-    # sort positions by cell once
-    c=(np.floor(pos0[:,1]/cell).astype(int)%G)*G+(np.floor(pos0[:,0]/cell).astype(int)%G)
-    order=np.argsort(c,kind='stable'); X.from_numpy(pos0[order])
-    st=np.searchsorted(c[order],np.arange(G*G+1)); start.from_numpy(st.astype(np.int32))
-    f=force
+    def force_fields():
+        sums(X, V, R, A, D, start)
+
+    f = force_fields
 else:
-    Xa=ti.ndarray(vec,N); Va=ti.ndarray(vec,N); Ra=ti.ndarray(ti.f64,N); Aa=ti.ndarray(vec,N); Da=ti.ndarray(ti.f64,N); sa=ti.ndarray(ti.i32,G*G+1)
-    c=(np.floor(pos0[:,1]/cell).astype(int)%G)*G+(np.floor(pos0[:,0]/cell).astype(int)%G)
-    order=np.argsort(c,kind='stable'); Xa.from_numpy(pos0[order]); Ra.fill(1000.)
-    st=np.searchsorted(c[order],np.arange(G*G+1)); sa.from_numpy(st.astype(np.int32))
+    X, V, A = (ti.ndarray(vec, N) for _ in range(3))
+    R, D = ti.ndarray(ti.f64, N), ti.ndarray(ti.f64, N)
+    start = ti.ndarray(ti.i32, G * G + 1)
+    Vec1, Real1 = ti.types.ndarray(vec, 1), ti.types.ndarray(ti.f64, 1)
+
     @ti.kernel
-    def forcen(X:ti.types.ndarray(vec,1),V:ti.types.ndarray(vec,1),R:ti.types.ndarray(ti.f64,1),A:ti.types.ndarray(vec,1),D:ti.types.ndarray(ti.f64,1),start:ti.types.ndarray(ti.i32,1)):
-        for i in range(N):
-            xi=X[i]; ci=ti.cast(xi/cell,ti.i32)
-            a=ti.Vector([0.,0.]); d=0.
-            pi_=1000*20*20/7*((R[i]/1000)**7-1)/R[i]**2
-            for oy in range(-1,2):
-                for ox in range(-1,2):
-                    cx=(ci[0]+ox)%G; cy=(ci[1]+oy)%G; c=cy*G+cx
-                    for j in range(start[c],start[c+1]):
-                        rij=xi-X[j]
-                        rij-= ti.round(rij)
-                        r2=rij.norm_sqr()
-                        if r2<sup*sup and j!=i:
-                            r=ti.sqrt(r2); q=r/h
-                            g=0.
-                            if q<1: g=-3+2.25*q
-                            elif q<2: g=-0.75*(2-q)**2/q
-                            grad=gn*g*rij
-                            pj=R[j]
-                            a-= 0.0001*(pi_+pj)*grad
-                            d+=0.0001*(V[i]-V[j]).dot(grad)
-            A[i]=a; D[i]=d
-    f=lambda: forcen(Xa,Va,Ra,Aa,Da,sa)
-f(); ti.sync()
-best=9
+    def force_ndarrays(X: Vec1, V: Vec1, R: Real1, A: Vec1, D: Real1, start: ti.types.ndarray(ti.i32, 1)):
+        sums(X, V, R, A, D, start)
+
+    def f():
+        force_ndarrays(X, V, R, A, D, start)
+
+X.from_numpy(pos0[order])
+R.fill(1000.0)
+start.from_numpy(starts)
+f()
+ti.sync()
+best = math.inf
 for _ in range(5):
-    t=time.perf_counter()
-    for _ in range(100): f()
-    ti.sync(); best=min(best,(time.perf_counter()-t)/100)
-print(mode, "%.3f ms  %.1f ns/particle"%(best*1e3,best/N*1e9))
+    t = time.perf_counter()
+    for _ in range(100):
+        f()
+    ti.sync()
+    best = min(best, (time.perf_counter() - t) / 100)
+print(mode, "%.3f ms  %.1f ns/particle" % (best * 1e3, best / N * 1e9))
