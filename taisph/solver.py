@@ -290,7 +290,12 @@ class Solver:
         count, fill = self._kernels["pairs"]
         sort = self.kernels(serial_sort=sim._serial_sort)[0]
         args = sim._kernel_args()
-        sort(*args, sim.time)  # sorts S by cell; a target time of now gives dt = 0
+        # The sort starts a step: with a target time of now its dt is 0, so the state
+        # (C) is untouched, but it also resets the maxima the next step's dt is chosen
+        # from. Keep the clock and those maxima as they were.
+        status = sim._status.to_numpy()
+        sort(*args, sim.time)  # sorts S by cell
+        sim._status.from_numpy(status)
         n = sim.n
         counts = ti.ndarray(ti.i32, n)
         count(*args, counts)
