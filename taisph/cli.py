@@ -84,6 +84,9 @@ def build_parser(case: str | None = None) -> argparse.ArgumentParser:
     g.add_argument("--integrator", choices=["euler", "eulermid", "eulermom", "pc"], help="time integrator")
     g.add_argument("--kernel", choices=["spline", "gaussian", "wendland"], help="smoothing kernel")
     g.add_argument("--precision", choices=["f32", "f64"], default="f64", help="float precision (default f64)")
+    g.add_argument("--neighbour-skin", type=float, metavar="F",
+                   help="reuse neighbour lists until a particle moves F/2 support radii (default 0: "
+                        "walk the cells every step, as fast on CPUs; see docs/performance.md)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="set any case parameter (see CASE --help); repeatable")
     g = parser.add_argument_group("guards and restarts")
@@ -186,6 +189,8 @@ def run_case(name: str, args) -> int:
     scene = func(**kwargs)
     if args.dt is not None:
         scene.dt = args.dt
+    if args.neighbour_skin is not None:
+        scene.neighbour_skin = args.neighbour_skin
     out = None if args.no_output else (args.out or Path("out") / name)
     print(scene.describe())
     start = time.perf_counter()

@@ -24,12 +24,33 @@ Periodic axes: the domain's extent ``L`` is the period; positions are wrapped in
 ``[lo, lo + L)`` every step, the grid has ``n = floor(L / support) >= 3`` cells of edge
 ``L / n`` along the axis, neighbouring cells wrap around, and separations use the
 nearest image, ``r_ij -= L round(r_ij / L)``.
+
+Neighbour lists with a skin (Verlet lists; the seed report's "further work"), when the
+scene's ``neighbour_skin`` is > 0 (compile time; the skin length is a runtime value):
+
+- at a *rebuild* the particles are sorted by cell as above, with cells of edge
+  ``support + skin``, and every particle's list of the particles closer than
+  ``support + skin`` is stored (``nlist[i, :ncount[i]]``) while the first neighbour
+  pass of the step walks the cells; ``x_ref`` keeps the positions they were built at;
+- between rebuilds the state is not reordered (the "sort" is an identity copy), and
+  neighbour sums walk the list, keeping the pairs closer than ``support``;
+- the sort pass measures every particle's displacement from ``x_ref`` (at the
+  position the rates are evaluated at) and rebuilds when the largest, ``d_max``,
+  reaches half the skin: a pair closer than ``support`` now was closer than
+  ``support + 2 d_max <= support + skin`` at the rebuild, so the lists are exact;
+- a particle whose list would overflow the list's capacity gets ``ncount = -1`` and
+  walks the cells around its ``x_ref`` instead (exact too: its neighbours were within
+  ``support + skin`` of ``x_ref``, that is in the adjacent cells); so a dense spot
+  only costs speed, never a neighbour.
 """
 
 import math
 
 import numpy as np
 import taichi as ti
+
+from . import stepping
+from .layout import WALL
 
 
 def grid_shape(lo, hi, cell) -> tuple:
@@ -78,7 +99,14 @@ class Grid:
     ``(n0, n1, n2, n_cells)``. ``periodic`` (a tuple of bools) is compile-time.
     """
 
-    def __init__(self, dim, real, p_lo, p_inv_cell, p_period, periodic):
+    def __init__(self, dim, real, p_lo, p_inv_cell, p_period, periodic, lists=False, p_skin=-1, p_reach2=-1,
+                 short_walls=None):
+        self.lists = bool(lists)  # compile time: neighbour lists with a skin
+        # (kind row, wall reach parameter row): lists keep walls only within that reach
+        self.short_walls = short_walls
+        self.has_short_walls = short_walls is not None
+        self.p_skin = p_skin
+        self.p_reach2 = p_reach2
         self.dim = dim
         self.real = real
         self.p_lo = p_lo
@@ -134,16 +162,16 @@ class Grid:
         return index
 
     @ti.func
-    def slot_range(self, s: ti.template(), c, k: ti.template()):
-        """Slots [begin, end) of the k-th of the n_ranges neighbour cell ranges of cell c;
-        empty where it falls off a non-periodic grid."""
+    def slot_range(self, s: ti.template(), c, k):
+        """Slots [begin, end) of the k-th of the n_ranges neighbour cell ranges of cell c
+        (k a runtime index); empty where it falls off a non-periodic grid."""
         begin = 0
         end = 0
         inside = True
         other = c
         first_axis = ti.static(0 if self.periodic[0] else 1)
         for d in ti.static(range(first_axis, self.dim)):
-            offset = ti.static((k // 3 ** (d - first_axis)) % 3 - 1)
+            offset = (k // ti.static(3 ** (d - first_axis))) % 3 - 1
             other[d] = c[d] + offset
             if ti.static(self.periodic[d]):
                 n = s.gshape[d]
@@ -168,14 +196,83 @@ class Grid:
         return begin, end
 
     @ti.func
+    def note_displacement(self, s: ti.template(), i, x):
+        """Track the largest displacement of particle i (now at x, in the memory order
+        of the last rebuild) from where the lists were built."""
+        if ti.static(self.lists):
+            d2 = ti.cast(self.separation(s, x, s.x_ref[i]).norm_sqr(), ti.f64)
+            if d2 > s.status[stepping.MAX_DISP2]:  # read first: rarely grows
+                ti.atomic_max(s.status[stepping.MAX_DISP2], d2)
+
+    @ti.func
+    def decide_rebuild(self, s: ti.template()) -> bool:
+        """(Serial.) Rebuild the lists this step? Always without lists."""
+        rebuild = True
+        if ti.static(self.lists):
+            skin = ti.cast(s.params[self.p_skin], ti.f64)
+            rebuild = s.status[stepping.FORCE_REBUILD] > 0.0 or 4.0 * s.status[stepping.MAX_DISP2] >= skin * skin
+            s.status[stepping.REBUILD] = 1.0 if rebuild else 0.0
+            s.status[stepping.FORCE_REBUILD] = 0.0
+            if rebuild:
+                s.status[stepping.REBUILDS] += 1.0
+        return rebuild
+
+    @ti.func
+    def rebuilding(self, s: ti.template()) -> bool:
+        rebuild = True
+        if ti.static(self.lists):
+            rebuild = s.status[stepping.REBUILD] > 0.0
+        return rebuild
+
+    @ti.func
     def for_each_neighbour(self, s: ti.template(), i, xi, support2, visitor: ti.template(), acc: ti.template()):
         """Call ``visitor.visit(s, i, j, rij, r2, acc)`` for every particle j != i with
-        |x_i - x_j|^2 < support2 (x_i = xi), in a fixed order (so sums are reproducible)."""
-        c = self.coords(s, xi)
-        for k in ti.static(range(self.n_ranges)):
-            begin, end = self.slot_range(s, c, k)
-            for j in range(begin, end):
-                rij = self.separation(s, xi, s.Sv[visitor.q.position, j])
-                r2 = rij.norm_sqr()
-                if r2 < support2 and j != i:
-                    visitor.visit(s, i, j, rij, r2, acc)
+        |x_i - x_j|^2 < support2 (x_i = xi), in a fixed order (so sums are reproducible).
+
+        With neighbour lists: walks i's list, or on a rebuild step walks the cells and
+        stores the list on the way (the visitor's code is inlined once per cell range
+        either way: one loop serves both, only where j comes from differs)."""
+        if ti.static(not self.lists):
+            c = self.coords(s, xi)
+            # a runtime loop over the cell ranges: the visitor's code is inlined once
+            # (unrolled, 9 copies in 3D overflowed the instruction cache)
+            for k in range(self.n_ranges):
+                begin, end = self.slot_range(s, c, k)
+                for j in range(begin, end):
+                    rij = self.separation(s, xi, s.Sv[visitor.q.position, j])
+                    r2 = rij.norm_sqr()
+                    if r2 < support2 and j != i:
+                        visitor.visit(s, i, j, rij, r2, acc)
+        else:
+            build = s.status[stepping.REBUILD] > 0.0
+            count = s.ncount[i]
+            from_list = count >= 0 and not build
+            reach2 = s.params[self.p_reach2]
+            capacity = s.nlist.shape[1]
+            c = self.coords(s, s.x_ref[i])  # == xi on a rebuild step
+            stored = 0
+            n_loops = self.n_ranges
+            if from_list:
+                n_loops = 1
+            for k in range(n_loops):
+                begin, end = 0, count
+                if not from_list:
+                    begin, end = self.slot_range(s, c, k)
+                for m in range(begin, end):
+                    j = m
+                    if from_list:
+                        j = s.nlist[i, m]
+                    rij = self.separation(s, xi, s.Sv[visitor.q.position, j])
+                    r2 = rij.norm_sqr()
+                    keep = r2 < reach2 and j != i
+                    if ti.static(self.has_short_walls):
+                        if s.Si[self.short_walls[0], j] == WALL:
+                            keep = keep and r2 < s.params[self.short_walls[1]]
+                    if build and keep:
+                        if stored < capacity:
+                            s.nlist[i, stored] = j
+                        stored += 1
+                    if r2 < support2 and j != i:
+                        visitor.visit(s, i, j, rij, r2, acc)
+            if build:
+                s.ncount[i] = stored if stored <= capacity else -1

@@ -83,6 +83,9 @@ class Scene:
     description: str = ""
     eos: object = field(default_factory=Tait)
     periodic: tuple = None  # per axis; the domain's extent is the period
+    # neighbour lists reused while no particle has moved half this skin (a fraction of
+    # the support radius); 0: walk the cells every step (see taisph.grid)
+    neighbour_skin: float = 0.0
     # per-particle data, filled by add_fluid/add_walls
     position: np.ndarray = None
     velocity: np.ndarray = None
@@ -209,6 +212,9 @@ class Scene:
         d, n = self.dim, self.n
         if n == 0:
             raise ValueError(f"scene {self.name!r} has no particles")
+        if not (0.0 <= self.neighbour_skin <= 2.0):
+            raise ValueError(f"scene {self.name!r}: neighbour_skin is {self.neighbour_skin!r}; it is a fraction "
+                             "of the support radius, from 0 (no lists) to 2")
         for name, arr, shape in (
             ("position", self.position, (n, d)),
             ("velocity", self.velocity, (n, d)),
@@ -279,6 +285,8 @@ class Scene:
         ]
         if any(self.periodic):
             lines.append("  periodic along " + ", ".join("xyz"[k] for k, p in enumerate(self.periodic) if p))
+        if self.neighbour_skin > 0:
+            lines.append(f"  neighbour lists with a skin of {self.neighbour_skin:g} support radii")
         return "\n".join(lines)
 
 

@@ -19,7 +19,7 @@ from .layout import FLUID, WALL
 # Grids with more cells than this per particle are refused: the domain is too large
 # for the smoothing length (a typo in a unit, usually) and memory would explode.
 MAX_CELLS_PER_PARTICLE = 64
-CHECKPOINT_VERSION = 1
+CHECKPOINT_VERSION = 2  # 2: neighbour lists saved
 
 
 class SimulationError(RuntimeError):
@@ -73,6 +73,7 @@ class RunSummary:
     dt_mean: float = float("nan")
     dt_max: float = float("nan")
     removed: int = 0
+    list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
 
     @property
     def particle_steps_per_second(self) -> float:
@@ -82,6 +83,8 @@ class RunSummary:
     def __str__(self) -> str:
         out = f", output in {self.out}" if self.out else ""
         removed = f", {self.removed} particles removed (left the domain)" if self.removed else ""
+        if self.list_rebuilds is not None:
+            removed = f", neighbour lists rebuilt {self.list_rebuilds} times" + removed
         return (
             f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
             f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "
@@ -151,14 +154,39 @@ class Simulation:
         self._status = ti.ndarray(ti.f64, stepping.STATUS_SIZE)
         self._flags = ti.ndarray(ti.i32, stepping.FLAGS_SIZE)
         self._cells = None
-        self._good = None  # device copy of the last state that passed the guards
+        self._good = None
+        # neighbour lists (taisph.grid); a dummy row when the scene has none
+        self.list_capacity = self._list_capacity() if sv.lists else 1
+        rows = n if sv.lists else 1
+        self._x_ref = ti.ndarray(sv.vec, rows)
+        self._nlist = ti.ndarray(ti.i32, (rows, self.list_capacity))
+        self._ncount = ti.ndarray(ti.i32, rows)
+        self._ncount.fill(-1)
+
+    def _list_capacity(self) -> int:
+        """Entries per particle's neighbour list: 1.5 times the particles within
+        support + skin of a particle in a lattice of spacing dx, plus a margin.
+        A particle with more (a compressed spot, a wall of closer particles) walks
+        the cells instead; its neighbours are still all found."""
+        scene = self.scene
+        reach = scene.support_radius * (1.0 + scene.neighbour_skin)
+        ball = {1: 2 * reach, 2: math.pi * reach**2, 3: 4 / 3 * math.pi * reach**3}[self.dim]
+        return int(min(self.n, math.ceil(1.5 * ball / scene.dx**self.dim) + 8))  # device copy of the last state that passed the guards
 
     def _setup_grid(self, grid=None):
         scene = self.scene
         support = scene.support_radius
+        # with neighbour lists the cells hold everything within support + skin; a
+        # periodic axis needs 3 cells, which may shorten the skin
+        reach = support * (1.0 + scene.neighbour_skin)
+        lo_d, hi_d = (np.asarray(a, float) for a in scene.domain)
+        for d in range(self.dim):
+            if scene.periodic[d]:
+                reach = max(support, min(reach, (hi_d[d] - lo_d[d]) / 3.0))
+        self.list_skin = reach - support
         if grid is None:
             pos = scene.position if self._cells is None else self.positions()
-            grid = layout_grid(scene.domain, scene.periodic, support, pos)
+            grid = layout_grid(scene.domain, scene.periodic, reach, pos)
         lo, cell, shape = grid
         n_cells = int(np.prod(shape))
         if n_cells > MAX_CELLS_PER_PARTICLE * self.n + 4096:
@@ -176,6 +204,7 @@ class Simulation:
         g[self.dim : 3] = 1
         g[3] = n_cells
         self._gshape.from_numpy(g)
+        self._status.arr.write_float([stepping.FORCE_REBUILD], 1.0)  # new cells: new lists
 
     def _upload(self, scene):
         sv = self.solver
@@ -224,7 +253,21 @@ class Simulation:
             remove_escaped=1.0 if c.remove_escaped else 0.0,
             guard_lo=lo - margin,
             guard_hi=hi + margin,
+            list_skin=self.list_skin,
+            list_reach2=(scene.support_radius + self.list_skin) ** 2,
+            list_wall_reach2=(self._wall_range() + self.list_skin) ** 2,
         )
+
+    def _wall_range(self) -> float:
+        """How far any term looks at wall neighbours, when none needs the full support
+        (e.g. the Lennard-Jones cut-off); the support radius otherwise."""
+        reach = 0.0
+        for t, r in zip(self.scene.terms, self.solver.wall_ranges):
+            if r == "support":
+                return self.scene.support_radius
+            if r is not None:
+                reach = max(reach, float(t.values[r]))
+        return reach
 
     def _upload_parameters(self, dt=None):
         self._snapshot_key = None  # e.g. a new c0 changes the pressure of the same state
@@ -237,16 +280,18 @@ class Simulation:
     def _reset_status(self):
         status = np.zeros(stepping.STATUS_SIZE)
         status[stepping.DT_MIN] = status[stepping.DT_STABLE_MIN] = np.inf
+        status[stepping.FORCE_REBUILD] = 1.0
         self._status.from_numpy(status)
         self._flags.from_numpy(np.zeros(stepping.FLAGS_SIZE, np.int32))
 
     def close(self):
         """Free the Taichi arrays now (they are also freed when the object is dropped)."""
         if getattr(self, "_C", None) is not None and runtime._current is self.runtime:
-            for array in (*self._C, *self._S, *(self._good or ())):
+            for array in (*self._C, *self._S, *(self._good or ()), self._x_ref, self._nlist, self._ncount):
                 runtime.free_ndarray(array)
         self._C = self._S = self._cells = self._good = None
         self._cell_of = self._params = self._mat = self._gshape = None
+        self._x_ref = self._nlist = self._ncount = None
         self._graph_args = None
         runtime.unregister(self)
 
@@ -304,7 +349,7 @@ class Simulation:
     # --- stepping -----------------------------------------------------------------
     def _kernel_args(self):
         return (*self._C, *self._S, self._cell_of, *self._cells, self._params, self._mat, self._gshape,
-                self._status, self._flags)
+                self._status, self._flags, self._x_ref, self._nlist, self._ncount)
 
     def _advance_arrays(self, t_target: float):
         """One step towards `t_target` (its dt is chosen on the device)."""
@@ -434,6 +479,7 @@ class Simulation:
             written += 1
         self._run_stats_start()
         steps0 = self.steps
+        rebuilds0 = self.list_rebuilds
         start = _time.perf_counter()
         with Progress(t0, t_end, enabled=progress) as bar:
             for k, t_frame in enumerate(frame_times):
@@ -452,7 +498,8 @@ class Simulation:
         dt_min, dt_mean, dt_max = self._run_stats_end(self.steps - steps0)
         return RunSummary(self.n, self.n_fluid, self.steps - steps0, self.time, wall, written,
                           str(writer.folder) if writer else None, dt_min, dt_mean, dt_max,
-                          self._flags.arr.read_int([stepping.REMOVED_COUNT]))
+                          self._flags.arr.read_int([stepping.REMOVED_COUNT]),
+                          self.list_rebuilds - rebuilds0 if self.solver.lists else None)
 
     def _run_stats_start(self):
         self._status.arr.write_float([stepping.DT_MIN], math.inf)
@@ -504,6 +551,11 @@ class Simulation:
         arrays = {f"C{k}": a.to_numpy() for k, a in enumerate(self._C)}
         arrays["status"] = self._status.to_numpy()
         arrays["flags"] = self._flags.to_numpy()
+        # the neighbour lists and the cells of their last rebuild: a resumed run walks
+        # the same lists in the same order (bit for bit in deterministic mode)
+        for name in ("x_ref", "nlist", "ncount"):
+            arrays[name] = getattr(self, "_" + name).to_numpy()
+        arrays["cell_start"] = self._cells[1].to_numpy()
         np.savez(tmp / "state.npz", **arrays)
         meta = dict(
             version=CHECKPOINT_VERSION,
@@ -555,6 +607,9 @@ class Simulation:
         self._upload_parameters()
         self._status.from_numpy(data["status"])
         self._flags.from_numpy(data["flags"])
+        for name in ("x_ref", "nlist", "ncount"):
+            getattr(self, "_" + name).from_numpy(data[name])
+        self._cells[1].from_numpy(data["cell_start"])
 
     # --- state as numpy, in particle-id order ------------------------------------
     def _arrays(self):
@@ -624,16 +679,26 @@ class Simulation:
         return self.kinds() == FLUID
 
     @property
+    def list_rebuilds(self) -> int:
+        """How many times the neighbour lists were built so far (every step without
+        lists: see ``Scene.neighbour_skin``)."""
+        if not self.solver.lists:
+            return self.steps
+        return int(self._status.arr.read_float([stepping.REBUILDS]))
+
+    @property
     def wall(self) -> np.ndarray:
         return self.kinds() == WALL
 
     def bytes_per_particle(self) -> int:
-        """Memory of the particle state per particle: the stored rows, twice (current
-        and cell-sorted buffers), the cell index, and the saved good state."""
+        """Memory of the particle state per particle: the stored rows, three times
+        (current and cell-sorted buffers, the saved good state), the cell index, and
+        with neighbour lists their reference position, count and entries."""
         L = self.solver.layout
         real = 4 if self.runtime.precision == "f32" else 8
         row = self.dim * real * len(L.vectors) + real * len(L.scalars) + 4 * len(L.integers)
-        return 3 * row + 4
+        lists = self.dim * real + 4 + 4 * self.list_capacity if self.solver.lists else 0
+        return 3 * row + 4 + lists
 
     def effects(self) -> list:
         """Names of the terms compiled into this simulation's kernels."""

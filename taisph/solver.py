@@ -33,7 +33,7 @@ from .grid import Grid
 from .layout import FLUID, VARIABLE_H, WALL, Layout
 
 Ctx = collections.namedtuple(
-    "Ctx", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill params mat gshape status flags"
+    "Ctx", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill params mat gshape status flags x_ref nlist ncount"
 )
 
 # Below this many particles the sort pass runs serially: waking the thread pool
@@ -52,7 +52,7 @@ def _traced(name: str, role: str):
     TRACED.append((name, role))
 
 
-class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic")):
+class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic lists")):
     """Everything that changes the compiled code (not parameter values)."""
 
 
@@ -64,6 +64,7 @@ def config_of(scene) -> Config:
         eos=scene.eos.compile_key(),
         terms=tuple(t.compile_key() for t in scene.terms),
         periodic=tuple(bool(p) for p in scene.periodic),
+        lists=scene.neighbour_skin > 0,
     )
 
 
@@ -200,7 +201,13 @@ class Solver:
                 p.owner = t.name
                 self.passes.append(p)
         self.integrator = integ.bind(layout)
-        self.grid = Grid(dim, real, rows["grid_lo"], rows["grid_inv_cell"], rows["period"], scene.periodic)
+        self.lists = scene.neighbour_skin > 0
+        # walls within a short range only (e.g. Lennard-Jones walls): lists keep fewer
+        self.wall_ranges = [t.wall_reach() for t in scene.terms]
+        walls_short = self.lists and "support" not in self.wall_ranges
+        self.grid = Grid(dim, real, rows["grid_lo"], rows["grid_inv_cell"], rows["period"], scene.periodic,
+                         self.lists, rows["list_skin"], rows["list_reach2"],
+                         (layout.q.kind, rows["list_wall_reach2"]) if walls_short else None)
         self.stepping = stepping.Stepping(dim, real, layout, rows, self.eos, scene.periodic)
         # rates.acc: dv/dt; rates.d[k]: rate of the k-th integrated scalar (a Taichi
         # vector needs length >= 1, hence the max); rates.shift: a correction to the
@@ -265,7 +272,7 @@ class Solver:
             try:
                 symbols = []
                 for name, array in zip(self.ARG_NAMES, args):
-                    dtype = self.vec if name in ("Cv", "Sv") else array.dtype
+                    dtype = self.vec if name in ("Cv", "Sv", "x_ref") else array.dtype
                     symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=dtype, ndim=len(array.shape)))
                 t_target = G.Arg(G.ArgKind.SCALAR, "t_target", ti.f64)
                 builder = G.GraphBuilder()
@@ -291,11 +298,11 @@ class Solver:
         sort = self.kernels(serial_sort=sim._serial_sort)[0]
         args = sim._kernel_args()
         # The sort starts a step: with a target time of now its dt is 0, so the state
-        # (C) is untouched, but it also resets the maxima the next step's dt is chosen
-        # from. Keep the clock and those maxima as they were.
-        status = sim._status.to_numpy()
+        # (C) is untouched, but it resets the maxima the next step's dt is chosen from
+        # and may rebuild the neighbour lists (in S's order, not C's). Keep the clock,
+        # the maxima, the lists and the cells they refer to as they were.
+        kept = [(a, a.to_numpy()) for a in (sim._status, sim._x_ref, sim._nlist, sim._ncount, *sim._cells)]
         sort(*args, sim.time)  # sorts S by cell
-        sim._status.from_numpy(status)
         n = sim.n
         counts = ti.ndarray(ti.i32, n)
         count(*args, counts)
@@ -305,6 +312,8 @@ class Solver:
         off_nd.from_numpy(offsets)
         out = ti.ndarray(ti.i32, (max(1, int(offsets[-1])), 2))
         fill(*args, off_nd, out)
+        for array, values in kept:
+            array.from_numpy(values)
         return out.to_numpy()[: offsets[-1]]
 
     def compiled_count(self) -> int:
@@ -327,11 +336,13 @@ class Solver:
             I1=ti.types.ndarray(dtype=ti.i32, ndim=1),
             R1=ti.types.ndarray(dtype=real, ndim=1),
             F1=ti.types.ndarray(dtype=ti.f64, ndim=1),
+            V1=ti.types.ndarray(dtype=self.vec, ndim=1),
+            I2=ti.types.ndarray(dtype=ti.i32, ndim=2),
         )
 
     def _build_sort(self, serial: bool):
         a = self._annotations()
-        V, S, I, I1, R1 = a["V"], a["S"], a["I"], a["I1"], a["R1"]
+        V, S, I, I1, R1, V1, I2 = a["V"], a["S"], a["I"], a["I1"], a["R1"], a["V1"], a["I2"]
         real = self.real
         q = self.layout.q
         nv, ns, ni = len(self.layout.vectors), len(self.layout.scalars), len(self.layout.integers)
@@ -341,8 +352,8 @@ class Solver:
 
         @ti.kernel
         def sort(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, t_target: ti.f64):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
+                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, x_ref: V1, nlist: I2, ncount: I1, t_target: ti.f64):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags, x_ref, nlist, ncount))
             n = Cv.shape[1]
             ti.loop_config(serialize=True)
             for _ in range(1):
@@ -350,22 +361,31 @@ class Solver:
             dt = ti.cast(status[stepping.DT], real)
             ti.loop_config(serialize=serial)
             for i in range(n):
+                # x: where this step's rates are evaluated
                 x = grid.wrap(s, integ.predicted_position(s, i, dt))
+                grid.note_displacement(s, i, x)
                 c = grid.linear(s, grid.coords(s, x))
                 cell_of[i] = c
                 ti.atomic_add(cell_count[c], 1)
             ti.loop_config(serialize=True)
             for _ in range(1):
-                running = 0
-                for c in range(gshape[3]):
-                    cell_start[c] = running
-                    cell_fill[c] = running
-                    running += cell_count[c]
-                    cell_count[c] = 0
-                cell_start[gshape[3]] = running
+                if grid.decide_rebuild(s):
+                    running = 0
+                    for c in range(gshape[3]):
+                        cell_start[c] = running
+                        cell_fill[c] = running
+                        running += cell_count[c]
+                        cell_count[c] = 0
+                    cell_start[gshape[3]] = running
+                else:  # keep the cells of the last rebuild (the lists' fallback)
+                    for c in range(gshape[3]):
+                        cell_count[c] = 0
+            rebuild = grid.rebuilding(s)
             ti.loop_config(serialize=serial)
             for i in range(n):
-                slot = ti.atomic_add(cell_fill[cell_of[i]], 1)
+                slot = i  # between rebuilds the order stays that of the last rebuild
+                if rebuild:
+                    slot = ti.atomic_add(cell_fill[cell_of[i]], 1)
                 for k in ti.static(range(nv)):
                     Sv[k, slot] = Cv[k, i]
                 for k in ti.static(range(ns)):
@@ -375,6 +395,9 @@ class Solver:
                 integ.predict(s, i, slot, dt)
                 if ti.static(grid.any_periodic):
                     Sv[q.position, slot] = grid.wrap(s, Sv[q.position, slot])
+                if ti.static(grid.lists):
+                    if rebuild:
+                        x_ref[slot] = Sv[q.position, slot]
                 eos.derive(s, slot)
                 for t in ti.static(derive_terms):
                     ti.static(_traced(t.name, "derive"))
@@ -384,7 +407,7 @@ class Solver:
 
     def _build_pass(self, neighbour_pass):
         a = self._annotations()
-        V, S, I, I1, R1 = a["V"], a["S"], a["I"], a["I1"], a["R1"]
+        V, S, I, I1, R1, V1, I2 = a["V"], a["S"], a["I"], a["I1"], a["R1"], a["V1"], a["I2"]
         real = self.real
         q = self.layout.q
         grid, eos = self.grid, self.eos
@@ -396,8 +419,8 @@ class Solver:
 
         @ti.kernel
         def neighbour_pass_kernel(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, t_target: ti.f64):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
+                                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, x_ref: V1, nlist: I2, ncount: I1, t_target: ti.f64):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags, x_ref, nlist, ncount))
             support2 = params[p_support2]
             for i in range(Sv.shape[1]):
                 if ti.static(select < 0) or Si[q.kind, i] == select:
@@ -413,7 +436,7 @@ class Solver:
 
     def _build_force(self):
         a = self._annotations()
-        V, S, I, I1, R1 = a["V"], a["S"], a["I"], a["I1"], a["R1"]
+        V, S, I, I1, R1, V1, I2 = a["V"], a["S"], a["I"], a["I1"], a["R1"], a["V1"], a["I2"]
         real, dim = self.real, self.dim
         q = self.layout.q
         nv, ns, ni = len(self.layout.vectors), len(self.layout.scalars), len(self.layout.integers)
@@ -427,8 +450,8 @@ class Solver:
 
         @ti.kernel
         def force(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, t_target: ti.f64):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
+                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, x_ref: V1, nlist: I2, ncount: I1, t_target: ti.f64):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags, x_ref, nlist, ncount))
             support2 = params[p_support2]
             dt = ti.cast(status[stepping.DT], real)
             for i in range(Sv.shape[1]):
@@ -454,12 +477,13 @@ class Solver:
 
     def _build_pairs(self):
         a = self._annotations()
-        V, S, I, I1, R1 = a["V"], a["S"], a["I"], a["I1"], a["R1"]
+        V, S, I, I1, R1, V1, I2 = a["V"], a["S"], a["I"], a["I1"], a["R1"], a["V1"], a["I2"]
         q = self.layout.q
         grid = self.grid
         p_support2 = self.param_rows["support2"]
-        PairOut = ti.types.ndarray(dtype=ti.i32, ndim=2)
         F1 = a["F1"]
+        # the context of `fill` also carries where the pairs go
+        PairCtx = collections.namedtuple("PairCtx", Ctx._fields + ("pair_out",))
 
         @ti.data_oriented
         class Count:
@@ -470,12 +494,20 @@ class Solver:
             def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
                 acc += 1
 
-        counter = Count(q)
+        @ti.data_oriented
+        class Fill(Count):
+            @ti.func
+            def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
+                s.pair_out[acc, 0] = s.Si[self.q.id, i]
+                s.pair_out[acc, 1] = s.Si[self.q.id, j]
+                acc += 1
+
+        counter, filler = Count(q), Fill(q)
 
         @ti.kernel
         def count(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, counts: I1):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
+                  cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, x_ref: V1, nlist: I2, ncount: I1, counts: I1):
+            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags, x_ref, nlist, ncount))
             for i in range(Sv.shape[1]):
                 k = 0
                 grid.for_each_neighbour(s, i, Sv[q.position, i], params[p_support2], counter, k)
@@ -483,19 +515,12 @@ class Solver:
 
         @ti.kernel
         def fill(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1,
-                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, offsets: I1, out: PairOut):
-            s = ti.static(Ctx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags))
+                 cell_start: I1, cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, x_ref: V1, nlist: I2, ncount: I1,
+                 offsets: I1, out: I2):
+            s = ti.static(PairCtx(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat, gshape, status, flags, x_ref, nlist, ncount, out))
             for i in range(Sv.shape[1]):
                 k = offsets[i]
-                c = grid.coords(s, Sv[q.position, i])
-                for r in ti.static(range(grid.n_ranges)):
-                    begin, end = grid.slot_range(s, c, r)
-                    for j in range(begin, end):
-                        rij = grid.separation(s, Sv[q.position, i], Sv[q.position, j])
-                        if j != i and rij.norm_sqr() < params[p_support2]:
-                            out[k, 0] = Si[q.id, i]
-                            out[k, 1] = Si[q.id, j]
-                            k += 1
+                grid.for_each_neighbour(s, i, Sv[q.position, i], params[p_support2], filler, k)
 
         return count, fill
 
@@ -508,7 +533,7 @@ class Solver:
         @ti.kernel
         def pressure(Cv: V, Cs: S, Ci: I, params: R1, mat: S):
             # here the "sorted" arrays of the context are the current ones, C
-            s = ti.static(Ctx(Cv, Cs, Ci, Cv, Cs, Ci, None, None, None, None, params, mat, None, None, None))
+            s = ti.static(Ctx(Cv, Cs, Ci, Cv, Cs, Ci, None, None, None, None, params, mat, None, None, None, None, None, None))
             for i in range(Cs.shape[1]):
                 eos.derive(s, i)
                 for t in ti.static(derive_terms):

@@ -34,7 +34,11 @@ from .layout import REMOVED
 
 # status (f64) entries
 TIME, DT, MAX_ACC2, MAX_SIGNAL, DT_MIN, DT_MAX, DT_SUM, STEPS, DT_STABLE_MIN, DT_STABLE, FROZEN = range(11)
-STATUS_SIZE = 12
+# neighbour lists (taisph.grid): largest squared displacement from the positions the
+# lists were built at, this step's rebuild decision, a host request to rebuild (state
+# changed from outside), and the number of rebuilds so far
+MAX_DISP2, REBUILD, FORCE_REBUILD, REBUILDS = range(11, 15)
+STATUS_SIZE = 16
 
 # flags (i32) entries and failure bits
 CODES, COUNT, REMOVED_COUNT = 0, 1, 2
@@ -54,6 +58,9 @@ PARAMS = (  # name, width ("dim" = one per axis)
     ("remove_escaped", 1),
     ("guard_lo", "dim"),
     ("guard_hi", "dim"),
+    ("list_skin", 1),  # neighbour list skin (length); the lists hold pairs closer than
+    ("list_reach2", 1),  # (support + skin)^2
+    ("list_wall_reach2", 1),  # (wall range + skin)^2, if no term needs walls farther
 )
 
 
@@ -104,6 +111,7 @@ class Stepping:
             s.status[DT_STABLE_MIN] = ti.min(s.status[DT_STABLE_MIN], dt_stable)
         s.status[MAX_ACC2] = 0.0
         s.status[MAX_SIGNAL] = 0.0
+        s.status[MAX_DISP2] = 0.0
 
     @ti.func
     def track(self, s: ti.template(), i, rates: ti.template()):

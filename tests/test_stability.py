@@ -98,11 +98,14 @@ def test_density_guard():
 
 
 # --- checkpoint and restart ---------------------------------------------------------
-def test_restart_matches_an_uninterrupted_run_bit_for_bit(tmp_path):
+@pytest.mark.parametrize("skin", [0.0, 0.3])
+def test_restart_matches_an_uninterrupted_run_bit_for_bit(tmp_path, skin):
     """Deterministic mode: a run resumed from a checkpoint ends bit-for-bit where the
     uninterrupted run does (state saved in memory order, clock and dt history on the
-    device, serial stable cell sort)."""
+    device, serial stable cell sort; with neighbour lists, the lists and the cells of
+    their last rebuild too)."""
     scene = taisph.cases.dam_break(dx=0.08)
+    scene.neighbour_skin = skin
     a = taisph.Simulation(scene, deterministic=True)
     a.run(0.05, frames=1, out=tmp_path / "a", checkpoint_every=1)
     a.run(0.1, frames=1)

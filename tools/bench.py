@@ -4,6 +4,7 @@
     python tools/bench.py --quick              # 2D ~10k and ~40k only
     python tools/bench.py --precision f32 --threads 1
     python tools/bench.py --compare --pysph-python /path/to/pysph-venv/bin/python
+    python tools/bench.py --skin 0             # walk the cells every step (no neighbour lists)
 
 --compare runs taisph's dam break and then PySPH's dam_break_2d example (through
 tools/pysph_dam_break.py, which sets PySPH's particle mass and smoothing length from
@@ -44,14 +45,17 @@ def sizes_3d(quick: bool):
     return [] if quick else [("dam_break_3d", (2.0 / 60_000) ** (1 / 3))]
 
 
-def bench(case: str, dx: float, steps: int, repeat: int, precision: str, threads: int | None):
+def bench(case: str, dx: float, steps: int, repeat: int, precision: str, threads: int | None, skin=None):
     scene = getattr(taisph.cases, case)(dx=dx)
+    if skin is not None:
+        scene.neighbour_skin = skin
     start = time.perf_counter()
     sim = taisph.Simulation(scene, precision=precision, threads=threads)
     sim.step(1)
     ti.sync()
     compile_time = time.perf_counter() - start
     times = []
+    rebuilds0, steps0 = sim.list_rebuilds, sim.steps
     for _ in range(repeat):
         t0 = time.perf_counter()
         sim.step(steps)
@@ -71,13 +75,16 @@ def bench(case: str, dx: float, steps: int, repeat: int, precision: str, threads
         per_sim_second=wall / (steps * sim.dt),
         dt=sim.dt,
         bytes=sim.bytes_per_particle(),
+        steps_per_rebuild=(sim.steps - steps0) / max(1, sim.list_rebuilds - rebuilds0),
     )
     sim.close()
     return row
 
 
-def compare(dx: float, tf: float, pysph_python: str, precision: str) -> None:
+def compare(dx: float, tf: float, pysph_python: str, precision: str, skin=None) -> None:
     scene = taisph.cases.dam_break(dx=dx)
+    if skin is not None:
+        scene.neighbour_skin = skin
     sim = taisph.Simulation(scene, precision=precision)
     sim.step(1)
     ti.sync()
@@ -116,6 +123,9 @@ def main(argv=None):
     p.add_argument("--pysph-python", default="python", help="a Python with PySPH installed (for --compare)")
     p.add_argument("--dx", type=float, default=0.01, help="spacing for --compare (0.01: 20k fluid particles)")
     p.add_argument("--tf", type=float, default=0.05, help="simulated time for --compare")
+    p.add_argument("--skin", type=float, default=None,
+                   help="neighbour list skin as a fraction of the support radius (0: no lists; default: the case's)")
+    p.add_argument("--cases", default="2d,3d", help="which sizes: 2d, 3d or both (default)")
     args = p.parse_args(argv)
 
     rt = taisph.runtime.init(precision=args.precision, threads=args.threads)
@@ -124,17 +134,20 @@ def main(argv=None):
           f"arch {rt.arch}")
     print(f"# command: python tools/bench.py {' '.join(sys.argv[1:] if argv is None else argv)}")
     if args.compare:
-        compare(args.dx, args.tf, args.pysph_python, args.precision)
+        compare(args.dx, args.tf, args.pysph_python, args.precision, args.skin)
         return
     print("| case | fluid | walls | steps | compile s | wall s | M fluid particle-steps/s | wall s per simulated s "
-          "| bytes per particle |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for case, dx in sizes_2d(args.quick) + sizes_3d(args.quick):
+          "| bytes per particle | steps per list rebuild |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    chosen = args.cases.split(",")
+    sizes = (sizes_2d(args.quick) if "2d" in chosen else []) + (sizes_3d(args.quick) if "3d" in chosen else [])
+    for case, dx in sizes:
         fluid_estimate = 2.0 / dx ** (2 if case == "dam_break" else 3)
         steps = max(5, int(args.work / fluid_estimate))
-        r = bench(case, dx, steps, args.repeat, args.precision, args.threads)
+        r = bench(case, dx, steps, args.repeat, args.precision, args.threads, args.skin)
         print(f"| {r['case']} | {r['fluid']} | {r['walls']} | {r['steps']} | {r['compile']:.2f} | "
-              f"{r['wall']:.3f} | {r['rate'] / 1e6:.2f} | {r['per_sim_second']:.1f} | {r['bytes']} |", flush=True)
+              f"{r['wall']:.3f} | {r['rate'] / 1e6:.2f} | {r['per_sim_second']:.1f} | {r['bytes']} | "
+              f"{r['steps_per_rebuild']:.1f} |", flush=True)
 
 
 if __name__ == "__main__":

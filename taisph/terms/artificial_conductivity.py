@@ -26,6 +26,7 @@ class ArtificialConductivity(Term):
     name = "artificial_conductivity"
     params = {"alpha_u": 1.0}
     has_pair = True
+    wall_range = None  # fluid neighbours only
 
     def check(self, scene):
         if not any(t.integrates.get("energy") for t in scene.terms):

@@ -45,6 +45,10 @@ class ArtificialViscosity(Term):
         super().__init__(**values)
         self.options = {"walls": bool(walls)}
 
+    @property
+    def wall_range(self):
+        return "support" if self.options["walls"] else None
+
     def check(self, scene):
         if self.options["walls"] and "dummy_walls" not in scene.terms_by_name:
             raise ValueError("ArtificialViscosity(walls=True) needs dummy walls (AdamiWall): "

@@ -65,6 +65,12 @@ class Term:
     has_derive = False
     has_shift = False
     outputs: tuple = ()
+    # How far a term looks at *wall* neighbours: "support" (walls take part in its
+    # kernel sums; the safe default), None (it skips walls), or the name of a length
+    # parameter (e.g. a wall force's cut-off). If no term of a scene needs walls
+    # across the whole support, the neighbour lists keep only the walls within the
+    # largest such range (plus the skin): far fewer entries next to dense walls.
+    wall_range = "support"
     # quantities a term reads from the material table (column names)
     options: dict = {}  # compile-time options: part of the kernel cache key
 
@@ -141,6 +147,12 @@ class Term:
         else:
             result = self.kernel.w_h(r, s.Ss[self.h_row, i])
         return result
+
+    def wall_reach(self):
+        """:attr:`wall_range`, or None for a term with no neighbour sums at all."""
+        if not self.has_pair and type(self).passes is Term.passes:
+            return None
+        return self.wall_range
 
     def passes(self) -> list:
         """Neighbour passes this term needs before the force pass (bound copies)."""

@@ -24,6 +24,10 @@ class Continuity(Term):
         super().__init__()
         self.options = {"walls": bool(walls)}
 
+    @property
+    def wall_range(self):
+        return "support" if self.options["walls"] else None
+
     def describe(self):
         return "continuity(walls)" if self.options["walls"] else "continuity"
 

@@ -24,6 +24,7 @@ class ContinuityColagrossi(Term):
     name = "continuity_colagrossi"
     integrates = {"density": "d_density"}
     has_pair = True
+    wall_range = None  # fluid neighbours only
     has_derive = True
     scalars = ("volume",)
 

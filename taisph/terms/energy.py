@@ -32,6 +32,7 @@ class InternalEnergy(Term):
     scalars = ("energy",)
     integrates = {"energy": "d_energy"}
     has_pair = True
+    wall_range = None  # fluid neighbours only
 
     def __init__(self, form: str = "compatible"):
         if form not in FORMS:

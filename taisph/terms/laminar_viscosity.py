@@ -30,6 +30,10 @@ class LaminarViscosity(Term):
         super().__init__(**values)
         self.options = {"walls": bool(walls)}
 
+    @property
+    def wall_range(self):
+        return "support" if self.options["walls"] else None
+
     def check(self, scene):
         nu = self.values.get("nu")
         if nu is None or not nu >= 0:

@@ -40,6 +40,7 @@ class ParticleShifting(Term):
     name = "particle_shifting"
     params = {"shift_speed": None, "shift_dx": None}
     has_pair = True
+    wall_range = None  # fluid neighbours only
     has_shift = True
 
     def check(self, scene):

@@ -26,6 +26,10 @@ class PressureGradient(Term):
         super().__init__()
         self.options = {"walls": bool(walls)}
 
+    @property
+    def wall_range(self):
+        return "support" if self.options["walls"] else None
+
     def describe(self):
         return "pressure(walls)" if self.options["walls"] else "pressure"
 

@@ -32,6 +32,7 @@ from .base import Term
 class PressureHuAdams(Term):
     name = "pressure_hu_adams"
     has_pair = True
+    wall_range = None  # fluid neighbours only
     has_derive = True
     scalars = ("volume",)
 

@@ -25,6 +25,10 @@ class SummationDensity(Term):
         super().__init__()
         self.options = {"include_walls": bool(include_walls)}
 
+    @property
+    def wall_range(self):
+        return "support" if self.options["include_walls"] else None
+
     def passes(self):
         return [_DensitySum(self)]
 

@@ -19,6 +19,7 @@ class XSPH(Term):
     name = "xsph"
     params = {"xsph_eps": 0.5}
     has_pair = True
+    wall_range = None  # fluid neighbours only
     has_shift = True
 
     @ti.func
