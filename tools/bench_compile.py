@@ -3,8 +3,8 @@
     python tools/bench_compile.py
 
 Cold: a new process with an empty Taichi offline cache (TI_OFFLINE_CACHE_FILE_PATH
-pointed at a fresh folder): import, build the 2D dam break (dx = 0.02), compile and
-run the first step. Warm: the same again with that cache filled. Then, in one
+pointed at a fresh folder): import, build the 2D dam break (dx = 0.02) or the 3D one
+(dx = 0.1), compile and run the first step. Warm: the same again with that cache filled. Then, in one
 process, ten dam breaks with different viscosity, sound speed and resolution, each
 run 20 steps: the kernels compile for the first and are reused by the other nine
 (the count of compiled Taichi kernel instances is printed after each run).
@@ -22,16 +22,20 @@ import json, time
 t0 = time.perf_counter()
 import taichi as ti, taisph
 t1 = time.perf_counter()
-sim = taisph.Simulation(taisph.cases.dam_break(dx=0.02))
+sim = taisph.Simulation(CASE)
 sim.step(1); ti.sync()
 t2 = time.perf_counter()
 print(json.dumps(dict(imports=t1 - t0, first_step=t2 - t1)))
 """
 
 
-def first_step(cache: str) -> dict:
+CASES = {"2D": "taisph.cases.dam_break(dx=0.02)", "3D": "taisph.cases.dam_break_3d(dx=0.1)"}
+
+
+def first_step(cache: str, case: str) -> dict:
     env = dict(os.environ, TI_OFFLINE_CACHE_FILE_PATH=cache)
-    out = subprocess.run([sys.executable, "-c", FIRST_STEP], capture_output=True, text=True, env=env, check=True)
+    code = FIRST_STEP.replace("CASE", case)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -56,13 +60,14 @@ def sweep() -> None:
 
 
 def main():
-    with tempfile.TemporaryDirectory(prefix="taisph-ticache-") as cache:
-        cold = first_step(cache)
-        warm = first_step(cache)
-    print("| offline cache | import s | build + compile + first step s |")
-    print("|---|---:|---:|")
-    print(f"| cold (empty) | {cold['imports']:.2f} | {cold['first_step']:.2f} |")
-    print(f"| warm | {warm['imports']:.2f} | {warm['first_step']:.2f} |")
+    print("| case | offline cache | import s | build + compile + first step s |")
+    print("|---|---|---:|---:|")
+    for name, case in CASES.items():
+        with tempfile.TemporaryDirectory(prefix="taisph-ticache-") as cache:
+            cold = first_step(cache, case)
+            warm = first_step(cache, case)
+        print(f"| {name} | cold (empty) | {cold['imports']:.2f} | {cold['first_step']:.2f} |")
+        print(f"| {name} | warm | {warm['imports']:.2f} | {warm['first_step']:.2f} |", flush=True)
     print()
     sweep()
 
