@@ -5,6 +5,7 @@
     python tools/bench.py --precision f32 --threads 1
     python tools/bench.py --compare --pysph-python /path/to/pysph-venv/bin/python
     python tools/bench.py --skin 0             # walk the cells every step (no neighbour lists)
+    python tools/bench.py --steps 30 --repeat 5   # every size timed over the same early flow
 
 --compare runs taisph's dam break and then PySPH's dam_break_2d example (through
 tools/pysph_dam_break.py, which sets PySPH's particle mass and smoothing length from
@@ -126,6 +127,10 @@ def main(argv=None):
     p.add_argument("--skin", type=float, default=None,
                    help="neighbour list skin as a fraction of the support radius (0: no lists; default: the case's)")
     p.add_argument("--cases", default="2d,3d", help="which sizes: 2d, 3d or both (default)")
+    p.add_argument("--steps", type=int, default=None,
+                   help="steps per timed block for every size (default: --work / particles). The same "
+                        "count times every size over the same early flow, before the viscosity of "
+                        "the developed flow adds cost; the default times small runs much later")
     args = p.parse_args(argv)
 
     rt = taisph.runtime.init(precision=args.precision, threads=args.threads)
@@ -143,7 +148,7 @@ def main(argv=None):
     sizes = (sizes_2d(args.quick) if "2d" in chosen else []) + (sizes_3d(args.quick) if "3d" in chosen else [])
     for case, dx in sizes:
         fluid_estimate = 2.0 / dx ** (2 if case == "dam_break" else 3)
-        steps = max(5, int(args.work / fluid_estimate))
+        steps = args.steps or max(5, int(args.work / fluid_estimate))
         r = bench(case, dx, steps, args.repeat, args.precision, args.threads, args.skin)
         print(f"| {r['case']} | {r['fluid']} | {r['walls']} | {r['steps']} | {r['compile']:.2f} | "
               f"{r['wall']:.3f} | {r['rate'] / 1e6:.2f} | {r['per_sim_second']:.1f} | {r['bytes']} | "
