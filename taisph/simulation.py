@@ -669,8 +669,11 @@ class Simulation:
         return {"vector": self._vector, "scalar": self._scalar, "integer": self._integer}[kind](name)
 
     def neighbour_pairs(self) -> np.ndarray:
-        """Ordered pairs of particle ids closer than the kernel support, as found by
-        the neighbour grid: an (M, 2) array (each pair appears as (i, j) and (j, i))."""
+        """Ordered pairs of particle ids closer than the kernel support, as the
+        neighbour sums visit them: an (M, 2) array (each pair appears as (i, j) and
+        (j, i)). With neighbour lists and terms that need walls only within a short
+        range (Lennard-Jones walls), fluid-wall pairs beyond that range plus the skin
+        are not visited and not listed. Leaves the simulation as it was."""
         return self.solver.neighbour_pairs(self)
 
     @property

@@ -7,7 +7,9 @@ VMs we measure on, so work is fused into as few passes as possible):
 ``sort``    cell index and count per particle, serial prefix sum over the cells, then
             each particle's whole state is scattered to its cell-sorted slot. The
             integrator's predictor, periodic wrapping, the equation of state and the
-            terms' per-particle ``derive`` functions run here.
+            terms' per-particle ``derive`` functions run here. With neighbour lists
+            (``Scene.neighbour_skin`` > 0) the scatter happens only on rebuild steps;
+            otherwise the state is copied in place (:mod:`taisph.grid`).
 ``passes``  only if a term needs them: neighbour sums that must be complete before
             the rates (e.g. wall pressure extrapolated from the fluid, summation
             density), one launch each, in the order the terms list them.
