@@ -10,31 +10,22 @@ the floor taisph's force pass is compared with in docs/performance.md: timings o
 shared VM drift by up to 2x during a day, so the ratio measured in the same minute
 says more than either number alone. Prints the best of 5 blocks of 100 calls.
 """
-import math
 import sys
-import time
 
-import numpy as np
 import taichi as ti
+
+from bare_loop import best_time, make_pair, sorted_lattice
 
 mode = sys.argv[1] if len(sys.argv) > 1 else "nd"
 ti.init(arch=ti.cpu, default_fp=ti.f64)
 n_side = 141
-dx = 1.0 / n_side
-h = 1.3 * dx
+h = 1.3 / n_side
 support = 2 * h
 G = int(1.0 / support)  # cells per side
 cell = 1.0 / G
 N = n_side * n_side
-grad_norm = 10 / (7 * math.pi) / h**4  # cubic spline, 2D
 vec = ti.types.vector(2, ti.f64)
-
-# a square lattice, sorted by cell once (the loop reads cell-sorted data)
-axis = (np.arange(n_side) + 0.5) * dx
-pos0 = np.stack(np.meshgrid(axis, axis, indexing="ij"), -1).reshape(-1, 2)
-cell_of = (np.floor(pos0[:, 1] / cell).astype(int) % G) * G + (np.floor(pos0[:, 0] / cell).astype(int) % G)
-order = np.argsort(cell_of, kind="stable")
-starts = np.searchsorted(cell_of[order], np.arange(G * G + 1)).astype(np.int32)
+pair = make_pair(h, 2)  # R stands for P/rho^2, precomputed per particle
 
 
 @ti.func
@@ -45,7 +36,6 @@ def sums(X: ti.template(), V: ti.template(), R: ti.template(), A: ti.template(),
         ci = ti.cast(xi / cell, ti.i32)
         a = ti.Vector([0.0, 0.0])
         d = 0.0
-        p_i = R[i]  # stands for P/rho^2, precomputed per particle
         for oy in range(-1, 2):
             for ox in range(-1, 2):
                 c = ((ci[1] + oy) % G) * G + (ci[0] + ox) % G
@@ -54,15 +44,9 @@ def sums(X: ti.template(), V: ti.template(), R: ti.template(), A: ti.template(),
                     rij -= ti.round(rij)  # periodic unit box
                     r2 = rij.norm_sqr()
                     if r2 < support * support and j != i:
-                        q = ti.sqrt(r2) / h
-                        g = 0.0
-                        if q < 1:
-                            g = -3 + 2.25 * q
-                        elif q < 2:
-                            g = -0.75 * (2 - q) ** 2 / q
-                        grad = grad_norm * g * rij
-                        a -= 0.0001 * (p_i + R[j]) * grad
-                        d += 0.0001 * (V[i] - V[j]).dot(grad)
+                        da, dd = pair(i, j, rij, r2, V, R)
+                        a += da
+                        d += dd
         A[i] = a
         D[i] = d
 
@@ -90,16 +74,9 @@ else:
     def f():
         force_ndarrays(X, V, R, A, D, start)
 
-X.from_numpy(pos0[order])
+pos, starts = sorted_lattice(n_side, 2, G)  # the loop reads cell-sorted data
+X.from_numpy(pos)
 R.fill(1000.0)
 start.from_numpy(starts)
-f()
-ti.sync()
-best = math.inf
-for _ in range(5):
-    t = time.perf_counter()
-    for _ in range(100):
-        f()
-    ti.sync()
-    best = min(best, (time.perf_counter() - t) / 100)
+best = best_time(f, 100)
 print(mode, "%.3f ms  %.1f ns/particle" % (best * 1e3, best / N * 1e9))
