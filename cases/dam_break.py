@@ -4,9 +4,10 @@ import math
 
 import numpy as np
 
-from taisph.scene import Material, Scene, box_walls, lattice, wall_layers
-from taisph.terms import (AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall,
-                          PressureGradient, XSPH, tait)
+from taisph.scene import Material, Scene
+from taisph.geometry import box_walls, lattice, wall_layers
+from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall, PressureGradient, XSPH
+from taisph.eos import tait
 
 WALL_MODELS = ("lj", "dummy")
 

@@ -5,8 +5,10 @@ import math
 import numpy as np
 
 from taisph.geometry import polyline
-from taisph.scene import Material, Scene, box_walls, lattice
-from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient, tait
+from taisph.scene import Material, Scene
+from taisph.geometry import box_walls, lattice
+from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
+from taisph.eos import tait
 
 
 def dam_break_wedge(

@@ -4,8 +4,10 @@ import math
 
 import numpy as np
 
-from taisph.scene import Material, Scene, lattice
-from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, PressureGradient, XSPH, tait
+from taisph.scene import Material, Scene
+from taisph.geometry import lattice
+from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, PressureGradient, XSPH
+from taisph.eos import tait
 
 
 def elliptical_drop(

@@ -4,7 +4,8 @@ import math
 
 import numpy as np
 
-from taisph.scene import Material, Scene, lattice, wall_layers
+from taisph.scene import Material, Scene
+from taisph.geometry import lattice, wall_layers
 from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, PressureGradient
 
 

@@ -3,7 +3,8 @@
 import numpy as np
 
 from taisph import gas
-from taisph.scene import Gas, Scene, lattice
+from taisph.scene import Gas, Scene
+from taisph.geometry import lattice
 
 
 def sedov(

@@ -2,10 +2,11 @@
 
 import math
 
-from taisph import analytic
-from taisph.scene import Material, Scene, lattice
-from taisph.terms import (ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting,
-                          PressureGradient, XSPH, tait)
+from taisph.validation.references import analytic
+from taisph.scene import Material, Scene
+from taisph.geometry import lattice
+from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting, PressureGradient, XSPH
+from taisph.eos import tait
 
 
 def taylor_green(

@@ -4,9 +4,10 @@ import math
 
 import numpy as np
 
-from taisph.scene import Material, Scene, box_walls, lattice
-from taisph.terms import (ArtificialViscosity, ContinuityColagrossi, Gravity, LennardJonesWall,
-                          PressureHuAdams, tait)
+from taisph.scene import Material, Scene
+from taisph.geometry import box_walls, lattice
+from taisph.terms import ArtificialViscosity, ContinuityColagrossi, Gravity, LennardJonesWall, PressureHuAdams
+from taisph.eos import tait
 
 
 def two_fluids(

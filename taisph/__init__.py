@@ -10,7 +10,8 @@ import importlib.util as _util
 import sys as _sys
 from pathlib import Path as _Path
 
-from .layout import FLUID, WALL
+from . import geometry
+from .engine.layout import FLUID, WALL
 from .scene import Gas, Material, Scene
 from .simulation import RunSummary, Simulation
 

@@ -24,9 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .terms import (AdaptiveSmoothingLength, ArtificialConductivity, ArtificialViscosity, Continuity, IdealGas,
+from .eos import IdealGas
+from .terms import (AdaptiveSmoothingLength, ArtificialConductivity, ArtificialViscosity, Continuity,
                     InternalEnergy, PressureGradient, SummationDensity)
-from .terms.ideal_gas import energy, pressure, sound_speed
+from .eos.ideal_gas import energy, pressure, sound_speed
 
 __all__ = ["effects", "cfl_dt", "IdealGas", "energy", "pressure", "sound_speed", "DENSITY"]
 

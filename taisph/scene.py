@@ -16,9 +16,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import integrators, smoothing
-from .layout import FLUID, KINDS, WALL
-from .terms import Tait
+from .engine import integrators, smoothing
+from .engine.layout import FLUID, KINDS, WALL
+from .eos import Tait
 from .terms.base import Term
 
 
@@ -288,67 +288,3 @@ class Scene:
         if self.neighbour_skin > 0:
             lines.append(f"  neighbour lists with a skin of {self.neighbour_skin:g} support radii")
         return "\n".join(lines)
-
-
-# --- geometry helpers -----------------------------------------------------------------
-def lattice(lo, hi, dx) -> np.ndarray:
-    """Points of a regular lattice with spacing dx filling the box [lo, hi], each at
-    the centre of its dx-cell (so boxes side by side tile without overlap)."""
-    lo = np.asarray(lo, float)
-    hi = np.asarray(hi, float)
-    counts = [max(0, int(round((b - a) / dx))) for a, b in zip(lo, hi)]
-    axes = [a + dx * (np.arange(k) + 0.5) for a, k in zip(lo, counts)]
-    mesh = np.meshgrid(*axes, indexing="ij")
-    return np.stack([m.ravel() for m in mesh], axis=1)
-
-
-def box_walls(lo, hi, spacing, layers=1, vertical_axis=None, open_top=True) -> np.ndarray:
-    """Wall particles on the faces of the box [lo, hi], `spacing` apart.
-
-    The face at the top of `vertical_axis` (default: the last axis in 1D/2D, y in 3D
-    is passed explicitly by the cases) is left open unless `open_top` is False.
-    `layers` > 1 adds layers outside the box, `spacing` apart.
-    """
-    lo = np.asarray(lo, float)
-    hi = np.asarray(hi, float)
-    dim = len(lo)
-    up = dim - 1 if vertical_axis is None else vertical_axis
-    pts = []
-    for layer in range(layers):
-        a = lo - layer * spacing
-        b = hi + layer * spacing
-        if open_top:
-            b[up] = hi[up]
-        counts = [int(round((b[d] - a[d]) / spacing)) for d in range(dim)]
-        axes = [np.linspace(a[d], b[d], counts[d] + 1) for d in range(dim)]
-        mesh = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
-        on_face = np.zeros(len(mesh), bool)
-        for d in range(dim):
-            on_face |= np.isclose(mesh[:, d], a[d])
-            if d != up or not open_top:
-                on_face |= np.isclose(mesh[:, d], b[d])
-        pts.append(mesh[on_face])
-    return np.concatenate(pts)
-
-
-def wall_layers(lo, hi, dx, layers, vertical_axis=None, open_top=True, periodic=None) -> np.ndarray:
-    """Wall particles for dummy-particle walls: `layers` layers of lattice points, `dx`
-    apart, around the fluid box [lo, hi] (the fluid filling it with :func:`lattice`).
-
-    The particles are cell centres of the same lattice as the fluid's, so the first
-    layer sits dx/2 outside each face and the wall continues the fluid lattice
-    without a gap. The top face (of `vertical_axis`, default the last axis) is left
-    open unless `open_top` is False; the side walls then end at hi. Axes flagged in
-    `periodic` get no walls (the box extent there is the period)."""
-    lo = np.asarray(lo, float)
-    hi = np.asarray(hi, float)
-    dim = len(lo)
-    up = dim - 1 if vertical_axis is None else vertical_axis
-    periodic = (False,) * dim if periodic is None else tuple(bool(p) for p in periodic)
-    a = np.where(periodic, lo, lo - layers * dx)
-    b = np.where(periodic, hi, hi + layers * dx)
-    if open_top and not periodic[up]:
-        b[up] = hi[up]
-    pts = lattice(a, b, dx)
-    inside = np.all((pts > lo) & (pts < hi), axis=1)
-    return pts[~inside]

@@ -23,10 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from . import seedio
+from .io import dat as seedio
 from .scene import Material, Scene
 from .terms import (ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall,
-                    PressureGradient, PressureHuAdams, tait)
+                    PressureGradient, PressureHuAdams)
+from .eos import tait
 
 INTEGRATOR_WORDS = {"euler": "euler", "eulermid": "eulermid", "eulermom": "eulermom", "pc": "pc",
                     "predictorcorrector": "pc"}
@@ -227,7 +228,7 @@ def export_scene(scene, folder, t_end: float | None = None, dt: float | None = N
 
     Raises ValueError (writing nothing) if the scene uses something the files and
     the command's options cannot express."""
-    from .layout import FLUID, WALL
+    from .engine.layout import FLUID, WALL
 
     scene.validate()
     names = [t.name for t in scene.terms]
@@ -494,7 +495,7 @@ def health(sim, box=None, max_density_deviation: float = MAX_DENSITY_DEVIATION) 
 
 def export_main(argv) -> int:
     """``python -m taisph export CASE --dat DIR [--dx DX] [--set NAME=VALUE] ...``."""
-    from . import cli
+    from .cli import main as cli
 
     p = _Parser(prog="python -m taisph export", usage="python -m taisph export CASE --dat DIR [options]",
                 description="Write a built-in case as the seed's particle and boundary files, and print the "

@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 import taichi as ti
 
-from . import runtime, solver as _solver, stepping
-from .grid import layout_grid
-from .layout import FLUID, WALL
+from .engine import runtime, assembly as _solver
+from .engine import timestep as stepping
+from .engine.neighbours import layout_grid
+from .engine.layout import FLUID, WALL
 
 # Grids with more cells than this per particle are refused: the domain is too large
 # for the smoothing length (a typo in a unit, usually) and memory would explode.
@@ -462,8 +463,8 @@ class Simulation:
         :class:`SimulationError` after writing the last good state and the offending
         particles to `out`.
         """
-        from .progress import Progress
-        from .vtk import VTKWriter
+        from .io.progress import Progress
+        from .io.vtk import VTKWriter
 
         t_end = self.scene.t_end if t_end is None else float(t_end)
         frames = self.scene.frames if frames is None else int(frames)
@@ -523,7 +524,7 @@ class Simulation:
         self._good_dt_stable = self._status.arr.read_float([stepping.DT_STABLE_MIN])
 
     def _fail(self):
-        from . import diagnosis
+        from .engine import diagnosis
 
         report = diagnosis.collect(self)
         files = []

@@ -9,7 +9,7 @@ PRECISION = os.environ.get("TAISPH_TEST_PRECISION", "f64")
 
 @pytest.fixture(scope="session", autouse=True)
 def taichi_runtime():
-    from taisph import runtime
+    from taisph.engine import runtime
 
     return runtime.init(arch="cpu", precision=PRECISION)
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph import solver
+from taisph.engine import assembly as solver
 
 
 def test_parameter_change_does_not_recompile():
@@ -69,7 +69,7 @@ def test_many_simulations_do_not_leak_or_recompile():
 
 
 def test_closed_simulation_allows_new_precision():
-    from taisph import runtime
+    from taisph.engine import runtime
 
     sim = taisph.Simulation(taisph.cases.dam_break(dx=0.2))
     other = "f32" if sim.runtime.precision == "f64" else "f64"

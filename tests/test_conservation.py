@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph.terms import ArtificialViscosity, Continuity, PressureGradient, tait
+from taisph.terms import ArtificialViscosity, Continuity, PressureGradient
+from taisph.eos import tait
 
 
 @pytest.mark.parametrize("dim", [2, 3])

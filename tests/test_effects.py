@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph import solver
+from taisph.engine import assembly as solver
 from taisph.terms import Continuity, PressureGradient
 
 
@@ -51,7 +51,7 @@ def test_unlisted_terms_take_no_memory():
 
 
 def test_help_and_summary_list_the_active_effects(capsys):
-    from taisph import cli
+    from taisph.cli import main as cli
 
     with pytest.raises(SystemExit):
         cli.main(["dam_break", "--help"])
@@ -70,7 +70,7 @@ def test_gpu_backends_are_wired_and_fail_clearly_without_a_device():
         code = ("import taisph, sys\n"
                 f"try:\n    taisph.Simulation(taisph.cases.dam_break(dx=0.2), arch='{arch}')\n"
                 "except RuntimeError as e:\n    print('REFUSED', e); sys.exit(0)\n"
-                "print('RAN ON', taisph.runtime.current().arch)\n")
+                "print('RAN ON', taisph.engine.runtime.current().arch)\n")
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
         assert out.returncode == 0, out.stderr
         if "RAN ON" in out.stdout:  # a machine with that GPU

@@ -17,8 +17,8 @@ import taisph
 from taisph import gas
 from taisph.cases.sedov import shock_radius
 from taisph.cases.sod import compare, tube
-from taisph.riemann import RiemannProblem
-from taisph.sedov_taylor import SedovTaylor
+from taisph.validation.references.riemann import RiemannProblem
+from taisph.validation.references.sedov_taylor import SedovTaylor
 from taisph.terms import XSPH, AdaptiveSmoothingLength, ArtificialConductivity, InternalEnergy, PressureGradient
 
 SOD = RiemannProblem((1.0, 0.0, 1.0), (0.125, 0.0, 0.1), gamma=1.4)

@@ -10,7 +10,7 @@ import itertools
 import numpy as np
 import pytest
 
-from taisph import smoothing
+from taisph.engine import smoothing
 
 KERNELS = ["spline", "gaussian", "wendland"]
 DIMS = [1, 2, 3]

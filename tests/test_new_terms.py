@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph.scene import Material, Scene, lattice
+from taisph.scene import Material, Scene
+from taisph.geometry import lattice
 from taisph.terms import (AdamiWall, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting,
                           PressureGradient)
 

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph import cli, vtk
+from taisph.cli import main as cli
+from taisph.io import vtk
 
 
 @pytest.fixture(scope="module")

@@ -210,7 +210,7 @@ def test_frames_open_in_vtk(tmp_path, case, params):
     vtkio = pytest.importorskip("vtkmodules.vtkIOXML")
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
-    from taisph import vtk
+    from taisph.io import vtk
 
     scene = taisph.cases.CASES[case](**params)
     sim = taisph.Simulation(scene)

@@ -8,8 +8,11 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph import cli, seed, seedio, vtk
-from taisph.terms import tait
+import taisph.geometry
+from taisph import seed
+from taisph.cli import main as cli
+from taisph.io import dat as seedio, vtk
+from taisph.eos import tait
 
 
 def export(tmp_path, capsys, case, params):
@@ -67,13 +70,13 @@ def test_run_output_columns(tmp_path, capsys):
     """fluid.dat: every frame lists every fluid particle in index order; mass constant;
     pressure is the Tait pressure of the density (the input's pressure column is
     ignored); the energy column is carried through unchanged."""
-    x = taisph.scene.lattice([0, 0], [0.4, 0.2], 0.02)
+    x = taisph.geometry.lattice([0, 0], [0.4, 0.2], 0.02)
     n = len(x)
     rng = np.random.default_rng(3)
     energy = rng.uniform(1, 2, n)
     init = seedio.write_particles(tmp_path / "block.dat", x, np.zeros_like(x), 0.4, 1000.0,
                                   np.full(n, 12345.0), energy)
-    walls = taisph.scene.box_walls([0, 0], [0.4, 0.4], 0.01)
+    walls = taisph.geometry.box_walls([0, 0], [0.4, 0.4], 0.01)
     wall_file = seedio.write_particles(tmp_path / "walls.dat", walls, np.zeros_like(walls), 0.4, 1000.0, 0.0)
     out = tmp_path / "out"
     assert cli.main(["run", str(init), str(wall_file), "0.01", "0.0005", "eulermom", "gaussian",
@@ -142,9 +145,9 @@ def test_export_refuses_what_files_cannot_hold(tmp_path):
 def test_boundary_velocity_moves_walls(tmp_path, integrator):
     """The boundary file's u, v move the walls rigidly: after n steps every wall particle
     has moved by u n dt (to round-off)."""
-    x = taisph.scene.lattice([0.2, 0.2], [0.4, 0.4], 0.02)
+    x = taisph.geometry.lattice([0.2, 0.2], [0.4, 0.4], 0.02)
     init = seedio.write_particles(tmp_path / "p.dat", x, np.zeros_like(x), 0.4, 1000.0, 0.0)
-    walls = taisph.scene.box_walls([0, 0], [1, 1], 0.01)
+    walls = taisph.geometry.box_walls([0, 0], [1, 1], 0.01)
     wall_file = seedio.write_particles(tmp_path / "w.dat", walls, np.tile([0.5, 0.0], (len(walls), 1)), 0.4,
                                        1000.0, 0.0)
     scene, _ = seed.load_scene(init, wall_file, integrator=integrator, dt=1e-4)

@@ -4,7 +4,8 @@ refused with a message naming the file, the line and the value - with nothing wr
 import numpy as np
 import pytest
 
-from taisph import cli, seedio
+from taisph.cli import main as cli
+from taisph.io import dat as seedio
 
 GOOD = "2\n0 0.1 0.2 0 0 0.4 1000 0 0\n1 0.3 0.2 0 0 0.4 1000 0 0\n"
 

@@ -11,10 +11,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import taisph
-from taisph import cli, solver, vtk
-from taisph.scene import box_walls, lattice
+from taisph.cli import main as cli
+from taisph.engine import assembly as solver
+from taisph.io import vtk
+from taisph.geometry import box_walls, lattice
 from taisph.simulation import SimulationError
-from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient, tait
+from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
+from taisph.eos import tait
 
 G = 9.81
 

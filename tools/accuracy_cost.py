@@ -306,7 +306,7 @@ def main(argv=None):
     header = (f"# Accuracy and cost\n\nMade by `{command}` in {total / 60:.1f} min "
               f"(taisph {taisph.__version__} at commit {git_commit()}, taichi {taichi_version}, "
               f"Python {platform.python_version()}, {os.cpu_count()} cores, "
-              f"{taisph.runtime.current().threads} thread(s)). Wall time: stepping only, "
+              f"{taisph.engine.runtime.current().threads} thread(s)). Wall time: stepping only, "
               f"{'median of %d runs' % args.repeat if args.repeat > 1 else 'one run'} per point, on a shared machine "
               f"(1-minute load average {load_start:.1f} at the start, {load_end:.1f} at the end, on "
               f"{os.cpu_count()} cores: other jobs shared the machine; differences below ~30 % are noise). "

@@ -33,8 +33,8 @@ import numpy as np
 import taisph
 from taisph.cases.sedov import shock_radius
 from taisph.cases.sod import compare, tube
-from taisph.riemann import RiemannProblem
-from taisph.sedov_taylor import SedovTaylor
+from taisph.validation.references.riemann import RiemannProblem
+from taisph.validation.references.sedov_taylor import SedovTaylor
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 SOD_LEFT = (100, 200, 400, 800)  # particles on the left half of the tube, dx = 0.5 / n
@@ -163,7 +163,7 @@ def lattice_table(etas=(1.0, 1.1, 1.2, 1.3, 1.5, 2.0)) -> str:
     momentum flux of a uniform pressure P through a plane between particles is
     P (1 + that); both are 0 for the continuous integral). Kernels evaluated by the
     solver's own Taichi functions (smoothing.evaluate)."""
-    from taisph import smoothing
+    from taisph.engine import smoothing
 
     lines = ["1D lattice sums (relative errors of the density sum / of the pressure force across a plane):", "",
              "| kernel | " + " | ".join(f"h = {eta:g} dx" for eta in etas) + " |",

@@ -133,7 +133,7 @@ def main(argv=None):
                         "the developed flow adds cost; the default times small runs much later")
     args = p.parse_args(argv)
 
-    rt = taisph.runtime.init(precision=args.precision, threads=args.threads)
+    rt = taisph.engine.runtime.init(precision=args.precision, threads=args.threads)
     print(f"# taisph {taisph.__version__}, taichi {ti.__version__}, {platform.python_version()}, "
           f"{platform.machine()}, {os.cpu_count()} cores, {rt.threads} thread(s), {rt.precision}, "
           f"arch {rt.arch}")

@@ -27,7 +27,8 @@ import numpy as np
 import taichi as ti
 
 import taisph
-from taisph.scene import Material, Scene, box_walls, lattice, wall_layers
+from taisph.scene import Material, Scene
+from taisph.geometry import box_walls, lattice, wall_layers
 from taisph.terms import (AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LaminarViscosity,
                           LennardJonesWall, ParticleShifting, PressureGradient, XSPH)
 
@@ -102,7 +103,7 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=5)
     p.add_argument("--work", type=float, default=4e6, help="fluid particle-steps per timed block")
     args = p.parse_args(argv)
-    rt = taisph.runtime.init(precision=args.precision)
+    rt = taisph.engine.runtime.init(precision=args.precision)
     print(f"# taisph {taisph.__version__}, taichi {ti.__version__}, {platform.python_version()}, "
           f"{os.cpu_count()} cores, {rt.threads} thread(s), {rt.precision}")
     print(f"# command: python tools/bench_effects.py {' '.join(sys.argv[1:] if argv is None else argv)}")

@@ -20,8 +20,8 @@ import numpy as np
 import taisph
 from taisph.cases.sedov import shock_radius
 from taisph.cases.sod import compare, tube
-from taisph.riemann import RiemannProblem
-from taisph.sedov_taylor import SedovTaylor
+from taisph.validation.references.riemann import RiemannProblem
+from taisph.validation.references.sedov_taylor import SedovTaylor
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 

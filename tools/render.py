@@ -13,7 +13,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from taisph.vtk import read_pvd
+from taisph.io.vtk import read_pvd
 
 
 def _magnitude(values):

@@ -96,7 +96,8 @@ def two_fluids():
 
 
 def export_run():
-    from taisph import cli, seedio
+    from taisph.cli import main as cli
+    from taisph.io import dat as seedio
 
     for case, params in (("dam_break_wedge", {"dx": 0.08}), ("two_fluids", {"dx": 0.05}),
                          ("drop_on_incline", {"dim": 3, "dx": 0.1})):

@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 import taisph
-from taisph.scene import box_walls, lattice
+from taisph.geometry import box_walls, lattice
 from taisph.simulation import SimulationError
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
 

@@ -9,7 +9,6 @@ from .continuity_colagrossi import ContinuityColagrossi
 from .density_diffusion import DensityDiffusion
 from .energy import InternalEnergy
 from .gravity import Gravity
-from .ideal_gas import IdealGas
 from .laminar_viscosity import LaminarViscosity
 from .lennard_jones import LennardJonesWall
 from .particle_shifting import ParticleShifting
@@ -17,7 +16,6 @@ from .pressure_gradient import PressureGradient
 from .smoothing_length import AdaptiveSmoothingLength
 from .summation_density import SummationDensity
 from .pressure_hu_adams import PressureHuAdams
-from .tait import Tait
 from .xsph import XSPH
 
 __all__ = [
@@ -28,12 +26,10 @@ __all__ = [
     "PressureGradient",
     "ArtificialViscosity",
     "LennardJonesWall",
-    "Tait",
     "SummationDensity",
     "XSPH",
     "ContinuityColagrossi",
     "PressureHuAdams",
-    "IdealGas",
     "InternalEnergy",
     "ArtificialConductivity",
     "AdaptiveSmoothingLength",

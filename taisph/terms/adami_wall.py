@@ -30,7 +30,7 @@ non-physical density.
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import NeighbourPass, Term
 
 

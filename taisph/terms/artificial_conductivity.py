@@ -15,7 +15,7 @@ same as halving alpha_u. Needs the energy equation (:class:`InternalEnergy`).
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

@@ -28,7 +28,7 @@ alpha ~ 1 and beta ~ 2; for liquids beta = 0 and a small alpha.
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

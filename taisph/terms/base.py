@@ -50,7 +50,7 @@ import collections
 import numpy as np
 import taichi as ti
 
-from ..layout import VARIABLE_H
+from ..engine.layout import VARIABLE_H
 
 
 class Term:

@@ -10,7 +10,7 @@ the SPH sums (seed section 2). ``walls=True`` includes wall particles with their
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

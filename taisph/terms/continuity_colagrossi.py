@@ -15,7 +15,7 @@ eq. 7 (checked in the tests). Fluid neighbours only.
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

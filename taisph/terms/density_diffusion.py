@@ -30,7 +30,7 @@ physical density gradient). Needs the continuity equation (it adds to its rate).
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

@@ -20,7 +20,7 @@ own modules, whenever this term is in the scene. Fluid neighbours only.
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 FORMS = ("compatible", "seed")

@@ -16,7 +16,7 @@ the wall density it sets from the wall pressure. Without it walls exert no shear
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

@@ -14,7 +14,7 @@ the cut-off sees a capped (still strongly repulsive) force instead of an overflo
 
 import taichi as ti
 
-from ..layout import WALL
+from ..engine.layout import WALL
 from .base import Term
 
 

@@ -31,7 +31,7 @@ neighbours only.
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

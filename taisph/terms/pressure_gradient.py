@@ -11,7 +11,7 @@ pressure and density (dummy walls, :class:`taisph.terms.AdamiWall`).
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

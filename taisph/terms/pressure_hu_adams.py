@@ -24,7 +24,7 @@ Fluid neighbours only (walls act by the Lennard-Jones force).
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

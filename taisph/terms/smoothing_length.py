@@ -22,7 +22,7 @@ above the largest h the flow will need (the case files use twice the initial lar
 import numpy as np
 import taichi as ti
 
-from ..layout import VARIABLE_H
+from ..engine.layout import VARIABLE_H
 from .base import Term
 
 

@@ -13,7 +13,7 @@ each particle's own h, rho_a = sum_b m_b W(r_ab, h_a).
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import NeighbourPass, Term
 
 

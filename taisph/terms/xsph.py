@@ -10,7 +10,7 @@ relative motion. Fluid neighbours only.
 
 import taichi as ti
 
-from ..layout import FLUID
+from ..engine.layout import FLUID
 from .base import Term
 
 

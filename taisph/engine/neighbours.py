@@ -49,7 +49,7 @@ import math
 import numpy as np
 import taichi as ti
 
-from . import stepping
+from . import timestep as stepping
 from .layout import WALL
 
 

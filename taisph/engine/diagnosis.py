@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import stepping
+from . import timestep as stepping
 from .layout import FLUID
 
 
@@ -114,7 +114,7 @@ def explain(sim, report, files=()) -> str:
 
 
 def write_evidence(sim, report, folder) -> list:
-    from .vtk import write_vtu
+    from ..io.vtk import write_vtu
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

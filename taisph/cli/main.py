@@ -138,7 +138,7 @@ def main(argv=None) -> int:
     if command == "resume":
         return resume(argv[1:])
     if command in ("run", "export"):  # the seed's file workflow: taisph/seed.py
-        from . import seed
+        from .. import seed
 
         return (seed.run_main if command == "run" else seed.export_main)(argv[1:])
     cases = _cases()
@@ -151,7 +151,7 @@ def main(argv=None) -> int:
 
 
 def _guarded(func, *args) -> int:
-    from .simulation import SimulationError
+    from ..simulation import SimulationError
 
     try:
         return func(*args)
@@ -219,8 +219,8 @@ def resume(argv) -> int:
 
 
 def _resume(args) -> int:
-    from .simulation import Simulation
-    from .vtk import VTKWriter
+    from ..simulation import Simulation
+    from ..io.vtk import VTKWriter
 
     if not (args.checkpoint / "meta.pickle").exists():
         raise FileNotFoundError(f"{args.checkpoint} is not a checkpoint folder (no meta.pickle)")

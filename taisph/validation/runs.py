@@ -27,10 +27,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import analytic
-from .simulation import Simulation
+from .references import analytic
+from ..simulation import Simulation
 
-DATA = Path(__file__).resolve().parent / "data"
+DATA = Path(__file__).resolve().parent / "references" / "data"
 
 
 @dataclass
@@ -73,7 +73,7 @@ class _Runner:
     """Builds a simulation, runs it to sample times, accounts the stepping time."""
 
     def __init__(self, case, params, precision):
-        from . import cases
+        from .. import cases
 
         params = dict(params)
         dt_factor = params.pop("dt_factor", 1.0)

@@ -30,8 +30,9 @@ import collections
 import numpy as np
 import taichi as ti
 
-from . import integrators, runtime, smoothing, stepping
-from .grid import Grid
+from . import integrators, runtime, smoothing
+from . import timestep as stepping
+from .neighbours import Grid
 from .layout import FLUID, VARIABLE_H, WALL, Layout
 
 Ctx = collections.namedtuple(

@@ -1,0 +1,1 @@
+"""Readers and writers: ParaView frames, checkpoints, the seed's text files, progress."""

@@ -1,0 +1,12 @@
+"""Validation of taisph against exact solutions and experiments (docs/validation.md).
+
+:mod:`taisph.validation.runs` runs a case and measures its error against its reference;
+:mod:`taisph.validation.references` holds the references (analytic solutions, the exact
+Riemann solver, the Sedov-Taylor similarity solution, experimental data).
+"""
+
+from .runs import (VALIDATIONS, Outcome, couette, dam_break, elliptical_drop, hydrostatic_tank, poiseuille,
+                   reference, run, taylor_green)
+
+__all__ = ["VALIDATIONS", "Outcome", "run", "reference", "dam_break", "hydrostatic_tank", "poiseuille",
+           "couette", "taylor_green", "elliptical_drop"]

@@ -1,0 +1,1 @@
+"""Reference solutions and experimental data the validation compares against."""
