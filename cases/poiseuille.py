@@ -31,7 +31,7 @@ def poiseuille(
     Walls: dummy particles with extrapolated pressure and the no-slip velocity of
     Adami et al. (2012); Morris laminar viscosity; no artificial viscosity. c0 = 0.01
     m/s (Mach 2.5e-3; Morris et al.'s criterion c0^2 >= F L / 0.01 asks for 4.5e-3).
-    dt = min(acoustic CFL, 0.125 h^2/nu), the viscous limit of Morris et al.
+    Adaptive dt: the acoustic CFL and the viscous limit 0.125 h^2/nu of Morris et al.
     delta: density diffusion coefficient (no hydrostatic correction: the body force
     is balanced by the walls' shear, not by pressure), 0 or None for none.
     """
@@ -70,6 +70,4 @@ def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_e
     walls = wall_layers((0.0, 0.0), (length, L), dx, layers, open_top=False, periodic=(True, False))
     scene.add_walls(walls[walls[:, 1] < 0])
     scene.add_walls(walls[walls[:, 1] > L], velocity=(wall_speed, 0.0))
-    dt_acoustic = scene.stable_dt()
-    scene.dt = min(dt_acoustic, 0.125 * h * h / nu)
     return scene

@@ -3,6 +3,7 @@
 import numpy as np
 
 from taisph import gas
+from taisph.engine.timestep import initial_dt
 from taisph.scene import Gas, Scene
 from taisph.geometry import lattice
 
@@ -75,7 +76,7 @@ def sedov(
     w = np.where(q < 1, 1 - 1.5 * q**2 + 0.75 * q**3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0))
     e = p0 / ((gamma - 1.0) * rho0) + energy * w / (mass * w.sum())
     scene.add_fluid(points, mass=mass, density=rho0, energy=e)
-    scene.dt = gas.cfl_dt(scene, courant)
+    scene.dt = initial_dt(scene, courant=courant)
     return scene
 
 

@@ -3,6 +3,7 @@
 import numpy as np
 
 from taisph import gas
+from taisph.engine.timestep import initial_dt
 from taisph.scene import Gas, Scene
 
 SPACINGS = ("equal_mass", "equal_spacing")
@@ -43,7 +44,7 @@ def sod(
     Effects (taisph.gas.effects): density by summation (or continuity), energy
     equation, Monaghan viscosity alpha = 1, beta = 2 with heating, Price conductivity
     alpha_u = 1, h = h_factor (m / rho) per particle (variable_h). Fixed time step
-    courant * h_min / c_max(0) (taisph.gas.cfl_dt; stable up to courant = 0.5).
+    courant * h_min / c_max(0) (taisph.engine.timestep.initial_dt; stable up to courant = 0.5).
 
     h_factor = 1: with the cubic spline in 1D, h = dx makes both the lattice density
     sum and the pressure force across a plane exact on a uniform lattice. At the
@@ -84,7 +85,7 @@ def sod(
         e = gas.energy(p, rho, gamma)
         scene.add_fluid(x[:, None], mass=m, density=rho, velocity=u, energy=e)
         scene.add_fluid(2.0 * length - x[:, None], mass=m, density=rho, velocity=-u, energy=e)  # mirror
-    scene.dt = gas.cfl_dt(scene, courant)
+    scene.dt = initial_dt(scene, courant=courant)
     return scene
 
 

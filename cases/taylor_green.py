@@ -36,7 +36,7 @@ def taylor_green(
     shifting (Sun et al. 2017) with U as reference speed - on by default: without it
     the lattice tears at the vortices' stagnation points by t ~ 0.2 and the solution
     is lost. delta: density diffusion coefficient (0.1 by default, 0 or None: off);
-    xsph: XSPH epsilon (0 or None: off). dt = min(acoustic CFL, 0.125 h^2/nu).
+    xsph: XSPH epsilon (0 or None: off). Adaptive dt: the acoustic CFL and the viscous limit 0.125 h^2/nu.
     """
     n = round(L / dx)
     if n < 8 or not math.isclose(n * dx, L, rel_tol=1e-9):
@@ -61,5 +61,4 @@ def taylor_green(
     pts = lattice((0.0, 0.0), (L, L), dx)
     u, v, p = analytic.taylor_green(pts[:, 0], pts[:, 1], 0.0, U=U, L=L, nu=nu, rho=rho0)
     scene.add_fluid(pts, velocity=list(zip(u, v)), density=tait.density(p, rho0, c0, 7.0))
-    scene.dt = min(scene.stable_dt(), 0.125 * h * h / nu)
     return scene

@@ -64,8 +64,11 @@ class Scene:
 
     Particles are added in blocks with :meth:`add_fluid` and :meth:`add_walls`.
     ``domain`` is the box ``(lo, hi)`` the neighbour grid covers; particles outside it
-    are still simulated correctly (only more slowly). ``dt=None`` chooses a stable
-    step from the sound speed, gravity and smoothing length (:meth:`stable_dt`).
+    are still simulated correctly (only more slowly); the guards stop a run when a
+    particle leaves it by more than a kernel support, except along periodic axes and
+    through the faces listed in ``open_faces`` (e.g. ``("+y",)``, the open top of a
+    tank: water may fly up and fall back). ``dt=None`` (the default) adapts the step
+    to the flow (:mod:`taisph.engine.timestep`); a number fixes it.
     """
 
     name: str
@@ -86,6 +89,8 @@ class Scene:
     # neighbour lists reused while no particle has moved half this skin (a fraction of
     # the support radius); 0: walk the cells every step (see taisph.grid)
     neighbour_skin: float = 0.0
+    # faces of the domain particles may cross without tripping the guards: "-x", "+y"...
+    open_faces: tuple = ()
     # per-particle data, filled by add_fluid/add_walls
     position: np.ndarray = None
     velocity: np.ndarray = None
@@ -184,28 +189,6 @@ class Scene:
                 h = min(h, float(np.min(t.initial(self), initial=h)))
         return h
 
-    def stable_dt(self, courant: float = 0.2) -> float:
-        """A fixed time step from the acoustic CFL condition and the force condition
-        (Monaghan 1992 sec. 10; Monaghan 2005 eq. 4.12):
-
-            dt = min( C h / (c_max + |v|_max),  C sqrt(h / |g|) ),  C = 0.2.
-
-        c_max is the largest material c0, or for an equation of state that knows it
-        (an ideal gas) the largest initial sound speed; h is the smallest initial
-        smoothing length if it varies. For shocks, which raise the signal speed above
-        its initial value, the gas cases use :func:`taisph.gas.cfl_dt` instead.
-        """
-        h = self.smallest_smoothing_length()
-        max_sound_speed = getattr(self.eos, "max_sound_speed", None)  # a gas: from its state
-        c_max = max_sound_speed(self) if max_sound_speed else max(m.c0 for m in self.materials)
-        v_max = float(np.max(np.linalg.norm(self.velocity, axis=1))) if self.n else 0.0
-        dt = courant * h / (c_max + v_max)
-        for t in self.terms:
-            g = t.values.get("gravity")
-            if g is not None and np.linalg.norm(g) > 0:
-                dt = min(dt, courant * math.sqrt(h / np.linalg.norm(g)))
-        return dt
-
     # --- checking -----------------------------------------------------------------
     def validate(self) -> None:
         """Raise ValueError naming the first problem found."""
@@ -261,6 +244,10 @@ class Scene:
             raise ValueError(f"scene {self.name!r}: domain {lo} .. {hi} is empty")
         if len(self.periodic) != d:
             raise ValueError(f"scene {self.name!r}: periodic needs {d} flags, got {self.periodic}")
+        faces = [s + a for a in "xyz"[:d] for s in "-+"]
+        for face in self.open_faces:
+            if face not in faces:
+                raise ValueError(f"scene {self.name!r}: open face {face!r} is not one of {', '.join(faces)}")
         for name, values in self.quantities.items():
             values = np.asarray(values, float)
             if len(values) != n or not np.all(np.isfinite(values)):

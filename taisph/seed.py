@@ -27,6 +27,7 @@ from .io import dat as seedio
 from .scene import Material, Scene
 from .terms import (ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall,
                     PressureGradient, PressureHuAdams)
+from .engine.timestep import fixed_dt
 from .eos import tait
 
 INTEGRATOR_WORDS = {"euler": "euler", "eulermid": "eulermid", "eulermom": "eulermom", "pc": "pc",
@@ -275,7 +276,7 @@ def export_scene(scene, folder, t_end: float | None = None, dt: float | None = N
                                scene.density[w], np.zeros(len(w)))
         files.append(str(folder / "boundary.dat"))
     t_end = scene.t_end if t_end is None else t_end
-    dt = (scene.dt if scene.dt is not None else scene.stable_dt()) if dt is None else dt
+    dt = (scene.dt if scene.dt is not None else fixed_dt(scene)) if dt is None else dt
     frames = scene.frames if frames is None else frames
     av = scene.terms_by_name["artificial_viscosity"]
     argv = ["run", *files, _fmt(t_end), _fmt(dt), scene.integrator, scene.kernel,

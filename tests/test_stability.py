@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 import taisph
 from taisph.cli import main as cli
-from taisph.engine import assembly as solver
+from taisph import simulation
 from taisph.io import vtk
 from taisph.geometry import box_walls, lattice
 from taisph.simulation import SimulationError
@@ -124,10 +124,10 @@ def test_restart_matches_an_uninterrupted_run_bit_for_bit(tmp_path, skin):
 def test_restart_with_parallel_sort_matches_to_round_off(tmp_path, monkeypatch):
     """Parallel cell sort (atomics): the order within a cell varies, so sums are taken in
     another order; 20 steps after a restart the state agrees to round-off (1e-12 m)."""
-    monkeypatch.setattr(solver, "SERIAL_SORT_BELOW", 0)
+    monkeypatch.setattr(simulation, "SERIAL_SORT_BELOW", 0)
     scene = taisph.cases.dam_break(dx=0.08)
     a = taisph.Simulation(scene)
-    assert not a._serial_sort
+    assert not a.serial_sort
     a.step(10)
     a.save_checkpoint(tmp_path / "cp")
     b = taisph.Simulation.from_checkpoint(tmp_path / "cp")

@@ -33,7 +33,6 @@ class AdaptiveSmoothingLength(Term):
     name = "adaptive_h"
     params = {"h_factor": 1.2}
     scalars = (VARIABLE_H,)
-    has_derive = True
     outputs = (VARIABLE_H,)
 
     def initial(self, scene) -> np.ndarray:

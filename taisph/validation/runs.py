@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .references import analytic
+from ..engine.timestep import fixed_dt
 from ..simulation import Simulation
 
 DATA = Path(__file__).resolve().parent / "references" / "data"
@@ -79,7 +80,7 @@ class _Runner:
         dt_factor = params.pop("dt_factor", 1.0)
         self.scene = getattr(cases, case)(**params)
         if dt_factor != 1.0:
-            self.scene.dt = (self.scene.dt or self.scene.stable_dt()) * dt_factor
+            self.scene.dt = (self.scene.dt or fixed_dt(self.scene)) * dt_factor
         start = time.perf_counter()
         self.sim = Simulation(self.scene, precision=precision)
         self.setup = time.perf_counter() - start
