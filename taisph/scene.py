@@ -91,6 +91,9 @@ class Scene:
     neighbour_skin: float = 0.0
     # faces of the domain particles may cross without tripping the guards: "-x", "+y"...
     open_faces: tuple = ()
+    # particles that leave the domain elsewhere are removed and counted (instead of
+    # stopping the run); the simulation's remove_escaped control overrides this
+    remove_escaped: bool = False
     # per-particle data, filled by add_fluid/add_walls
     position: np.ndarray = None
     velocity: np.ndarray = None
@@ -115,6 +118,7 @@ class Scene:
         lo, hi = self.domain
         self.domain = (np.asarray(lo, float).reshape(d), np.asarray(hi, float).reshape(d))
         self.periodic = (False,) * d if self.periodic is None else tuple(bool(p) for p in self.periodic)
+        self.open_faces = (self.open_faces,) if isinstance(self.open_faces, str) else tuple(self.open_faces)
 
     # --- building -------------------------------------------------------------
     def add_particles(self, position, kind="fluid", material=0, mass=None, density=None, velocity=None,
@@ -272,6 +276,10 @@ class Scene:
         ]
         if any(self.periodic):
             lines.append("  periodic along " + ", ".join("xyz"[k] for k, p in enumerate(self.periodic) if p))
+        if self.open_faces:
+            lines.append(f"  open at {', '.join(self.open_faces)}: particles may leave and come back there")
+        if self.remove_escaped:
+            lines.append("  particles that leave the domain elsewhere are removed and counted")
         if self.neighbour_skin > 0:
             lines.append(f"  neighbour lists with a skin of {self.neighbour_skin:g} support radii")
         return "\n".join(lines)

@@ -14,7 +14,7 @@ import taichi as ti
 
 from .engine import assembly, runtime, timestep
 from .engine import status as st
-from .engine.layout import FLUID, WALL
+from .engine.layout import FLUID, REMOVED, WALL
 from .engine.state import State
 from .engine.timestep import Controls
 
@@ -50,8 +50,10 @@ class RunSummary:
     dt_min: float = float("nan")
     dt_mean: float = float("nan")
     dt_max: float = float("nan")
-    removed: int = 0
+    removed: int = 0  # particles removed so far (left the domain)
     list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
+    fluid_mass: float = float("nan")  # of the fluid particles still simulated, at the end
+    removed_mass: float = 0.0  # of the particles removed so far
 
     @property
     def particle_steps_per_second(self) -> float:
@@ -60,9 +62,13 @@ class RunSummary:
 
     def __str__(self) -> str:
         out = f", output in {self.out}" if self.out else ""
-        removed = f", {self.removed} particles removed (left the domain)" if self.removed else ""
+        removed = ""
         if self.list_rebuilds is not None:
-            removed = f", neighbour lists rebuilt {self.list_rebuilds} times" + removed
+            removed = f", neighbour lists rebuilt {self.list_rebuilds} times"
+        removed += f", fluid mass {self.fluid_mass:.6g} kg"
+        if self.removed:
+            removed += (f" + {self.removed_mass:.4g} kg removed ({self.removed} particles left the domain) "
+                        f"= {self.fluid_mass + self.removed_mass:.6g} kg")
         return (
             f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
             f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "
@@ -342,11 +348,13 @@ class Simulation:
         read = self.state.read
         dt_min, dt_mean, dt_max = ((read(st.DT_MIN), (read(st.DT_SUM) - dt_sum0) / steps, read(st.DT_MAX))
                                    if steps else (float("nan"),) * 3)
+        kinds, masses = self.kinds(), self.masses()
         return RunSummary(self.n, self.n_fluid, steps, self.time, wall,
                           frame_writer.frame - frames0 if frame_writer else 0,
                           str(frame_writer.folder) if frame_writer else None, dt_min, dt_mean, dt_max,
                           self.state.read_flag(st.REMOVED_COUNT),
-                          self.list_rebuilds - rebuilds0 if self.solver.lists else None)
+                          self.list_rebuilds - rebuilds0 if self.solver.lists else None,
+                          float(masses[kinds == FLUID].sum()), float(masses[kinds == REMOVED].sum()))
 
     # --- guards and checkpoints ---------------------------------------------------------
     def _fail(self):

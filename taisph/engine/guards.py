@@ -12,8 +12,8 @@ Cheap (a comparison per quantity; atomics only when something is wrong):
 A tripped guard sets a bit in ``flags`` and records up to ``MAX_RECORDED`` particles;
 from then on every step has dt = 0 (the state stays as it was when the guard
 tripped, even if the host only looks a few steps later), and the host stops and
-explains (:mod:`taisph.engine.diagnosis`). With ``remove_escaped`` a particle leaving
-the guard box is instead turned into an inactive particle (kind ``removed``: no
+explains (:mod:`taisph.engine.diagnosis`). With ``remove_escaped`` (a control, or the
+scene's default) a particle leaving the guard box is instead turned into an inactive particle (kind ``removed``: no
 forces, not written), and counted.
 """
 
@@ -34,6 +34,12 @@ PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
 OPEN = 1e30  # the guard position of an open face: never reached
 
 
+def removes_escaped(scene, controls) -> bool:
+    """Are particles leaving the domain removed (else a guard trips)? The controls
+    decide if they say, else the scene."""
+    return scene.remove_escaped if controls.remove_escaped is None else bool(controls.remove_escaped)
+
+
 def parameter_values(scene, controls) -> dict:
     """Values of :data:`PARAMS` for `scene` and `controls`."""
     lo, hi = scene.domain
@@ -47,7 +53,7 @@ def parameter_values(scene, controls) -> dict:
             guard_hi[axis] = OPEN
     return dict(
         max_density_error=controls.max_density_error,
-        remove_escaped=1.0 if controls.remove_escaped else 0.0,
+        remove_escaped=1.0 if removes_escaped(scene, controls) else 0.0,
         guard_lo=guard_lo,
         guard_hi=guard_hi,
     )

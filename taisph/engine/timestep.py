@@ -40,7 +40,8 @@ class Controls:
     force_factor       C_force in dt = C_force sqrt(h / max |a|)         (0.25)
     viscous_factor     C_visc in dt = C_visc h^2 / nu                     (0.125)
     max_density_error  stop when |rho/rho0 - 1| exceeds this (0 disables; taisph.engine.guards)
-    remove_escaped     remove particles that leave the domain instead of stopping
+    remove_escaped     remove (and count) particles that leave the domain instead of stopping;
+                       None: as the scene says (``Scene.remove_escaped``)
     deterministic      serial (stable) cell sort at every size: bit-reproducible runs
     """
 
@@ -50,7 +51,7 @@ class Controls:
     force_factor: float = 0.25
     viscous_factor: float = 0.125
     max_density_error: float = 0.2
-    remove_escaped: bool = False
+    remove_escaped: bool | None = None
     deterministic: bool = False
 
 
