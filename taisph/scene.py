@@ -33,6 +33,14 @@ class Material:
     gamma: float = 7.0
     _positive = ("rho0", "c0", "gamma")  # constants check() requires (not a dataclass field)
 
+    def set(self, **values):
+        """Change constants by name (``rho0``, ``c0``, ``gamma``), checked."""
+        for key, value in values.items():
+            if not hasattr(self, key) or key == "name":
+                raise KeyError(f"materials have no constant {key!r} (rho0, c0, gamma)")
+            setattr(self, key, float(value))
+        self.check()
+
     def check(self):
         for key in self._positive:
             v = getattr(self, key)
@@ -183,6 +191,27 @@ class Scene:
         for t in self.terms:
             out.update(t.values)
         return out
+
+    def set(self, **values):
+        """Change parameters by name: ``smoothing_length``, any term's parameter (e.g.
+        ``alpha``, ``gravity``), or a material constant (``rho0``, ``c0``, ``gamma``: of
+        every material). Raises KeyError naming the unknown one, ValueError (from
+        :meth:`validate`) for a bad value."""
+        by_param = {k: t for t in self.terms for k in t.params}
+        material_keys = {"rho0", "c0", "gamma"}
+        for key in values:
+            if key not in by_param and key not in material_keys and key != "smoothing_length":
+                names = sorted(set(self.parameters()) | material_keys)
+                raise KeyError(f"no parameter {key!r}; parameters: {', '.join(names)}")
+        for key, value in values.items():
+            if key == "smoothing_length":
+                self.smoothing_length = float(value)
+            elif key in material_keys:
+                for m in self.materials:
+                    setattr(m, key, float(value))
+            else:
+                by_param[key].values[key] = value
+        self.validate()
 
     def smallest_smoothing_length(self) -> float:
         """The scene's h, or if a term varies it (``initial(scene)``, e.g. adaptive_h)

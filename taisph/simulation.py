@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import time as _time
 import warnings
-from dataclasses import dataclass, fields
+from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
@@ -15,80 +15,15 @@ import taichi as ti
 from .engine import assembly, runtime, timestep
 from .engine import status as st
 from .engine.layout import FLUID, REMOVED, WALL
+from .engine.diagnosis import SimulationError
 from .engine.state import State
 from .engine.timestep import Controls
+from .io.progress import Progress, RunSummary
 
 # Below this many particles the sort pass runs serially: waking the thread pool
 # costs more than the work (measured, see docs/performance.md), and a serial
 # scatter keeps each cell's particles in a reproducible order.
 SERIAL_SORT_BELOW = 60_000
-
-
-class SimulationError(RuntimeError):
-    """A guard tripped (non-finite state, density error, particle out of the domain).
-
-    ``str(err)`` explains what happened, where, the likely cause and a remedy;
-    ``err.report`` holds the same as data, ``err.files`` the frames written."""
-
-    def __init__(self, message, report, files=()):
-        super().__init__(message)
-        self.report = report
-        self.files = list(files)
-
-
-@dataclass
-class RunSummary:
-    """What :meth:`Simulation.run` did."""
-
-    particles: int
-    fluid_particles: int
-    steps: int
-    sim_time: float
-    wall_time: float
-    frames: int
-    out: str | None
-    dt_min: float = float("nan")
-    dt_mean: float = float("nan")
-    dt_max: float = float("nan")
-    removed: int = 0  # particles removed so far (left the domain)
-    list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
-    fluid_mass: float = float("nan")  # of the fluid particles still simulated, at the end
-    removed_mass: float = 0.0  # of the particles removed so far
-
-    @property
-    def particle_steps_per_second(self) -> float:
-        """Fluid particle-steps per wall second (the number SPH codes compare)."""
-        return self.fluid_particles * self.steps / self.wall_time if self.wall_time > 0 else float("nan")
-
-    def __str__(self) -> str:
-        out = f", output in {self.out}" if self.out else ""
-        removed = ""
-        if self.list_rebuilds is not None:
-            removed = f", neighbour lists rebuilt {self.list_rebuilds} times"
-        removed += f", fluid mass {self.fluid_mass:.6g} kg"
-        if self.removed:
-            removed += (f" + {self.removed_mass:.4g} kg removed ({self.removed} particles left the domain) "
-                        f"= {self.fluid_mass + self.removed_mass:.6g} kg")
-        return (
-            f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
-            f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "
-            f"({self.particle_steps_per_second / 1e6:.2f} M fluid particle-steps/s), "
-            f"dt min/mean/max {self.dt_min:.3g}/{self.dt_mean:.3g}/{self.dt_max:.3g} s, "
-            f"{self.frames} frames{removed}{out}"
-        )
-
-
-class _Callback:
-    """A run writer calling `function(sim)` at every output time."""
-
-    def __init__(self, function):
-        self.function = function
-
-    def on_start(self, sim):
-        pass
-
-    def on_frame(self, sim, k):
-        self.function(sim)
 
 
 class Simulation:
@@ -166,40 +101,23 @@ class Simulation:
         return self.scene.parameters()
 
     def set(self, **values):
-        """Change runtime parameters, e.g. ``sim.set(alpha=0.05, gravity=(0, -1))``.
-
-        Also accepts :class:`Controls` fields (``dt``, ``max_density_error``...).
-        Material constants are set per material: ``sim.set(c0=40.0)`` changes every
-        material, ``sim.set_material(1, rho0=500.0)`` one. No kernel is recompiled.
-        """
-        by_param = {k: t for t in self.scene.terms for k in t.params}
-        material_keys = {"rho0", "c0", "gamma"}
+        """Change runtime parameters, e.g. ``sim.set(alpha=0.05, gravity=(0, -1))``: the
+        scene's (:meth:`taisph.Scene.set`) and the :class:`Controls` fields (``dt``,
+        ``max_density_error``...). No kernel is recompiled."""
         control_keys = {f.name for f in fields(Controls)} - {"deterministic"}
-        for key, value in values.items():
-            if key == "smoothing_length":
-                self.scene.smoothing_length = float(value)
-            elif key in material_keys:
-                for m in self.scene.materials:
-                    setattr(m, key, float(value))
-            elif key in control_keys:
-                setattr(self.controls, key, value)
-            elif key in by_param:
-                by_param[key].values[key] = value
-            else:
-                names = sorted(set(self.parameters()) | control_keys)
-                raise KeyError(f"no parameter {key!r}; parameters: {', '.join(names)}")
-        self.scene.validate()
+        for key in control_keys & set(values):
+            setattr(self.controls, key, values.pop(key))
+        try:
+            self.scene.set(**values)
+        except KeyError as err:
+            raise KeyError(f"{err.args[0]}; or a control: {', '.join(sorted(control_keys))}") from None
         if "smoothing_length" in values:
             self._setup_grid()
         self._upload_parameters()
 
     def set_material(self, index: int, **values):
-        m = self.scene.materials[index]
-        for key, value in values.items():
-            if not hasattr(m, key) or key == "name":
-                raise KeyError(f"materials have no constant {key!r} (rho0, c0, gamma)")
-            setattr(m, key, float(value))
-        m.check()
+        """Change constants of one material, e.g. ``sim.set_material(1, rho0=500.0)``."""
+        self.scene.materials[index].set(**values)
         self._upload_parameters()
 
     # --- stepping -----------------------------------------------------------------
@@ -310,7 +228,6 @@ class Simulation:
         particles to `out`.
         """
         from .io.checkpoint import CheckpointWriter
-        from .io.progress import Progress
         from .io.vtk import VTKWriter
 
         t_end = self.scene.t_end if t_end is None else float(t_end)
@@ -322,8 +239,6 @@ class Simulation:
         self._out = Path(out) if out is not None else None
         frame_writer = VTKWriter(out, self, resume=_writer_state) if out is not None else None
         run_writers = [w for w in (frame_writer,) if w is not None]
-        if callback is not None:
-            run_writers.append(_Callback(callback))
         if checkpoint_every and out is not None:
             run_writers.append(CheckpointWriter(Path(out) / "checkpoint", checkpoint_every, t_end, frames,
                                                 frame_writer))
@@ -342,6 +257,8 @@ class Simulation:
                 bar.update(self.time, self.steps - steps0, force=True)
                 for writer in run_writers:
                     writer.on_frame(self, k)
+                if callback is not None:
+                    callback(self)
         ti.sync()
         wall = _time.perf_counter() - start
         steps = self.steps - steps0

@@ -16,6 +16,18 @@ from . import status as st
 from .layout import FLUID
 
 
+class SimulationError(RuntimeError):
+    """A guard tripped (non-finite state, density error, particle out of the domain).
+
+    ``str(err)`` explains what happened, where, the likely cause and a remedy;
+    ``err.report`` holds the same as data, ``err.files`` the frames written."""
+
+    def __init__(self, message, report, files=()):
+        super().__init__(message)
+        self.report = report
+        self.files = list(files)
+
+
 def collect(sim) -> dict:
     state = sim.state
     flags = state.flags.to_numpy()

@@ -202,7 +202,7 @@ class State:
 
     def free(self):
         """Free the Taichi arrays now (vector ndarrays leak otherwise: taichi#8763)."""
-        if runtime._current is self.runtime:
+        if runtime.is_current(self.runtime):
             for array in (*self.C, *self.S, *(self.good or ()), self.x_ref, self.nlist, self.ncount):
                 runtime.free_ndarray(array)
         self.C = self.S = self.cells = self.good = None
