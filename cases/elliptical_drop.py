@@ -27,7 +27,7 @@ def elliptical_drop(
 ):
     """A drop of radius R (m), no gravity, free surface all round, initial velocity
     u = -A0 x, v = A0 y. It stays an ellipse x^2/a^2 + y^2/b^2 = 1 with a b = R^2;
-    a(t), b(t) follow an ODE (``taisph.analytic.elliptical_drop``). Monaghan (1994) /
+    a(t), b(t) follow an ODE (``taisph.validation.references.analytic.elliptical_drop``). Monaghan (1994) /
     PySPH set-up: R = 1, A0 = 100 1/s, rho0 = 1, c0 = 1400 m/s, t_end = 0.0076 s
     (b grows to 1.9445); dx = 0.025 by default (5024 particles).
 

@@ -30,7 +30,7 @@ def sedov(
 ) -> "Scene":
     """Energy `energy` released at the centre of a square of gas (side `size`, density
     rho0, pressure p0, at rest): a cylindrical blast wave whose radius grows as
-    R = xi0 (E t^2 / rho0)^(1/4), xi0 = 1.004 for gamma = 1.4 (taisph.sedov_taylor).
+    R = xi0 (E t^2 / rho0)^(1/4), xi0 = 1.004 for gamma = 1.4 (taisph.validation.references.sedov_taylor).
 
     2D lattice of spacing dx, centred on the explosion; periodic sides (the shock stays
     far from them until t_end). The energy is given to the particles within 2h of the

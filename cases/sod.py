@@ -103,7 +103,7 @@ def tube(sim, length: float = 1.0) -> dict:
 
 def compare(state: dict, problem, t: float, x0: float = 0.5) -> dict:
     """Errors of a tube state (:func:`tube`) against the exact solution `problem`
-    (a :class:`taisph.riemann.RiemannProblem`) at time t:
+    (a :class:`taisph.validation.references.riemann.RiemannProblem`) at time t:
 
     - ``L1_rho``, ``L1_u``, ``L1_p``, ``L1_e``: mean over the particles of |q - q_exact(x)|;
     - ``L1x_...``: the same integrated over x, (1/L) int |q - q_exact| dx (trapezoid

@@ -95,7 +95,7 @@ class Scene:
     eos: object = field(default_factory=Tait)
     periodic: tuple = None  # per axis; the domain's extent is the period
     # neighbour lists reused while no particle has moved half this skin (a fraction of
-    # the support radius); 0: walk the cells every step (see taisph.grid)
+    # the support radius); 0: walk the cells every step (see taisph.engine.neighbours)
     neighbour_skin: float = 0.0
     # faces of the domain particles may cross without tripping the guards: "-x", "+y"...
     open_faces: tuple = ()

@@ -1,7 +1,7 @@
 """The seed's workflow: simulate particle files, and export cases as particle files.
 
 ``python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL [options]`` reads
-the seed's particle file (and optional boundary file, :mod:`taisph.seedio`), runs
+the seed's particle file (and optional boundary file, :mod:`taisph.io.dat`), runs
 the seed's physics and writes ``fluid.dat`` (the seed's text output) and ParaView
 frames. ``python -m taisph export CASE --dat DIR`` writes a built-in case as those
 files plus the exact ``run`` command line that reproduces it (``DIR/run.txt``).
@@ -91,7 +91,7 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
                frames: int = 20, name: str | None = None):
     """A :class:`taisph.Scene` from a seed particle file (and boundary file).
 
-    `particles` and `boundary` are paths or :class:`taisph.seedio.ParticleData`.
+    `particles` and `boundary` are paths or :class:`taisph.io.dat.ParticleData`.
     Returns ``(scene, energy)``: ``energy`` is the particle file's energy column (in
     index order), which taisph does not evolve (the liquid's energy is decoupled,
     seed sec. 2) and writes back unchanged. The pressure column is not used:

@@ -1,4 +1,4 @@
-"""Neighbour lists with a skin (taisph.grid): reused between rebuilds, yet exact.
+"""Neighbour lists with a skin (taisph.engine.neighbours): reused between rebuilds, yet exact.
 
 The lists hold every particle closer than support + skin at the last rebuild; they are
 rebuilt when some particle has moved half the skin. These tests check that the pairs

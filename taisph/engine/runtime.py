@@ -4,7 +4,7 @@
 re-initialising destroys every Taichi array and compiled kernel. taisph therefore
 initialises Taichi lazily, the first time a simulation needs it, and afterwards only
 checks that later requests agree. Simulations of any size and parameters share the
-runtime and the compiled kernels (see :mod:`taisph.solver`).
+runtime and the compiled kernels (see :mod:`taisph.engine.assembly`).
 
 A different precision or backend can be selected once no simulation is alive
 (:func:`init` then resets Taichi and drops the kernel cache); asking for it while a

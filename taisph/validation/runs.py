@@ -5,7 +5,7 @@ it, compares it with its reference and returns an :class:`Outcome`: one headline
 ``error`` (the number the accuracy study plots), all the metrics computed on the way,
 and the cost (steps, particles, wall seconds spent stepping, which excludes building
 the simulation and compiling its kernels). The references are analytic
-(:mod:`taisph.analytic`) or experimental (CSV files in ``taisph/data/`` with their
+(:mod:`taisph.analytic`) or experimental (CSV files in ``taisph/validation/references/data/`` with their
 sources in the headers). Tolerances and measured values: ``docs/validation.md``.
 
     >>> from taisph import validation
@@ -59,7 +59,7 @@ class Outcome:
 
 
 def reference(name: str) -> tuple[np.ndarray, str]:
-    """An experimental data file of ``taisph/data`` as (columns array, header text)."""
+    """An experimental data file of ``references/data`` as (columns array, header text)."""
     path = DATA / name
     header, rows = [], []
     for line in path.read_text().splitlines():
