@@ -63,7 +63,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         raise ValueError(f"walls must be one of {', '.join(WALL_MODELS)}, got {walls!r}")
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
-    up = dim - 1  # index of the vertical axis (y in 2D and 3D)
+    up = 1  # the vertical axis: y in 2D and in 3D (x along the flow, z across in 3D)
     gravity = [0.0] * dim
     gravity[up] = -g
     dummy = walls == "dummy"
