@@ -46,9 +46,10 @@ def dam_break(
     Tait water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed),
     Lennard-Jones walls (seed eq. 13) of particles dx/2 apart with r0 = dx/2 and
     D = 5 g H / r0. The column starts in hydrostatic equilibrium (inverse Tait).
-    The tank is open at the top (late splashes can go over a wall and leave the
-    domain, which stops the run unless escaped particles are removed) unless
-    `closed_top`.
+    The tank is open at the top unless `closed_top`: water may run up a wall, fly
+    above the domain and fall back (the top is not a guard), and water that goes over
+    a wall and leaves the domain elsewhere is removed and counted (the run summary
+    accounts for its mass).
 
     walls: "lj" (Lennard-Jones, the default) or "dummy" (layers of dummy particles
     with pressure extrapolated from the fluid, Adami et al. 2012: correct wall
@@ -106,8 +107,11 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         dim=dim,
         dx=dx,
         smoothing_length=h,
-        # open top: leave room above the tank for splashes before the guards call it an escape
+        # the neighbour grid covers the tank and a margin above it; particles beyond are
+        # still simulated exactly (only more slowly)
         domain=(np.array(lo) - dx, np.array(tank_hi) + dx + np.eye(dim)[up] * 0.5 * tank_height),
+        open_faces=() if closed_top else ("+y",),
+        remove_escaped=True,
         materials=[water],
         terms=terms,
         kernel=kernel,
