@@ -71,18 +71,23 @@ def reference(name: str) -> tuple[np.ndarray, str]:
 
 
 class _Runner:
-    """Builds a simulation, runs it to sample times, accounts the stepping time."""
+    """Builds a simulation, runs it to sample times, accounts the stepping time.
+
+    Besides the case's parameters, `params` may hold ``dt_factor`` (a fixed step of that
+    many times the case's) and ``controls`` (a dict of :class:`taisph.Simulation`
+    controls, e.g. ``{"courant": 0.4}``)."""
 
     def __init__(self, case, params, precision):
         from .. import cases
 
         params = dict(params)
         dt_factor = params.pop("dt_factor", 1.0)
+        controls = params.pop("controls", None) or {}
         self.scene = getattr(cases, case)(**params)
         if dt_factor != 1.0:
             self.scene.dt = (self.scene.dt or fixed_dt(self.scene)) * dt_factor
         start = time.perf_counter()
-        self.sim = Simulation(self.scene, precision=precision)
+        self.sim = Simulation(self.scene, precision=precision, **controls)
         self.setup = time.perf_counter() - start
         self.wall = 0.0
         self.diverged = False
