@@ -124,6 +124,9 @@ def list_cases(out=None):
     for name, func in cases.items():
         doc = (inspect.getdoc(sys.modules[func.__module__]) or inspect.getdoc(func) or "").splitlines()[0]
         print(f"  {name:<{width}}  {doc}", file=out)
+    from ..scenefile_build import list_scene_files
+
+    list_scene_files(out)
 
 
 def main(argv=None) -> int:
@@ -137,6 +140,10 @@ def main(argv=None) -> int:
         return 0
     if command == "resume":
         return resume(argv[1:])
+    if command.endswith(".toml"):  # a scene file: taisph/scenefile.py
+        from ..scenefile_build import main as run_scene_file
+
+        return run_scene_file(argv)
     if command in ("run", "export"):  # the seed's file workflow: taisph/seed.py
         from .. import seed
 
