@@ -339,7 +339,7 @@ class _Checker:
             if not (isinstance(value, list) and len(value) >= 3):
                 self.fail(f"{key}.polygon", value, "expected a list of at least 3 [x, y] vertices")
             source = [self.vector(f"{key}.polygon[{k}]", v, 2) for k, v in enumerate(value)]
-            name = f"{self.path}: {key}.polygon"
+            name = "polygon"
         else:
             self.text(f"{key}.mesh", value)
             source = name = self.path.parent / value  # relative to the scene file
@@ -347,8 +347,9 @@ class _Checker:
             import numpy as np
 
             surface = load_surface(np.asarray(source, float) if shape == "polygon" else source, dim=dim, name=str(name))
-        except MeshError as err:
-            self.fail(f"{key}.{shape}", value if shape == "mesh" else "[...]", str(err))
+        except MeshError as err:  # "NAME: problem"; a polygon's name would repeat the key
+            self.fail(f"{key}.{shape}", value if shape == "mesh" else "[...]",
+                      str(err) if shape == "mesh" else str(err).split(": ", 1)[1])
         return surface.transformed(scale, translate)
 
     def probes(self, entries, spec, lo, hi):

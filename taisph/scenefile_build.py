@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from .eos import tait
-from .geometry import box_walls, lattice
+from .geometry import box_walls, lattice, wall_layers
 from .mesh_fill import surface_points, volume_points
 from .scene import Material, Scene
 from .engine import smoothing
@@ -123,19 +123,13 @@ def scene_origin(spec: SceneSpec) -> np.ndarray:
     return np.asarray(tanks[0], float) if tanks else np.zeros(spec.dim)
 
 
-def tank_layers(lo, hi, dx, layers, open_top=True) -> np.ndarray:
-    """Dummy-wall particles of the tank [lo, hi]: `layers` layers dx apart outside
-    each face, the first dx/2 from it whatever the box's length (unlike
-    :func:`taisph.geometry.wall_layers`, which needs whole multiples of dx), along
-    the faces on the fluid's lattice from lo. The top (y) is open if `open_top`."""
-    axes = []
-    for a, (l, h) in enumerate(zip(lo, hi)):
-        inner = l + (np.arange(int(np.floor((h - l) / dx + 1e-9))) + 0.5) * dx
-        below = l - (np.arange(layers)[::-1] + 0.5) * dx
-        above = h + (np.arange(layers) + 0.5) * dx if not (open_top and a == UP) else np.zeros(0)
-        axes.append(np.concatenate([below, inner, above]))
-    grid = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
-    return grid[~np.all((grid > lo) & (grid < hi), axis=1)]
+def snap_box(lo, hi, dx, origin):
+    """The box [lo, hi] with its faces moved to the nearest planes of the scene's
+    lattice (by at most dx/2): a tank's walls then continue the fluid's lattice, dx/2
+    outside each face, however long the tank (cf. :func:`box_cells`)."""
+    lo, hi, origin = (np.asarray(v, float) for v in (lo, hi, origin))
+    snap = lambda v: origin + np.round((v - origin) / dx) * dx  # noqa: E731
+    return snap(lo), np.maximum(snap(hi), snap(lo) + dx)
 
 
 def _fluid_points(spec, block):
@@ -161,10 +155,12 @@ def _wall_points(spec, block):
     if block.model == "dummy":
         layers = wall_layers_needed(spec)
         if block.box is not None:
-            return tank_layers(*block.box, dx, layers, open_top=block.open_top)
+            lo, hi = snap_box(*block.box, dx, scene_origin(spec))
+            return wall_layers(lo, hi, dx, layers, vertical_axis=UP, open_top=block.open_top)
         return volume_points(block.surface, dx, depth=layers * dx, origin=scene_origin(spec))
     if block.box is not None:
-        return box_walls(*block.box, dx / 2.0, vertical_axis=UP, open_top=block.open_top)
+        return box_walls(*snap_box(*block.box, dx, scene_origin(spec)), dx / 2.0, vertical_axis=UP,
+                         open_top=block.open_top)
     return surface_points(block.surface, dx / 2.0)
 
 
