@@ -12,6 +12,7 @@ script; a scene file is the way to run without code.
 from __future__ import annotations
 
 import math
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -144,9 +145,23 @@ def read(path, overrides: dict | None = None) -> SceneSpec:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise SceneFileError(f"{path}: not valid TOML: {err}") from None
     for key, value in (overrides or {}).items():
-        table, _, leaf = key.rpartition(".")
-        (data.setdefault(table, {}) if table else data)[leaf] = value
+        _override(path, data, key, value)
     return _Checker(path).scene(data)
+
+
+def _override(path, data, key, value):
+    """Set `key` ("dx", "physics.alpha", "fluid[0].velocity") of the parsed file."""
+    match = re.fullmatch(r"(?:([a-z_]+)(?:\[(\d+)\])?\.)?([a-z_0-9]+)", key)
+    table = data
+    if match and match[1]:
+        table = data.setdefault(match[1], {} if match[2] is None else [])
+        if match[2] is not None:
+            k = int(match[2])
+            table = table[k] if isinstance(table, list) and k < len(table) else None
+    if not match or not isinstance(table, dict):
+        raise SceneFileError(f"{path}: {key} = {value!r} (set on the command line): no such table in the file; "
+                             "set KEY, TABLE.KEY or LIST[INDEX].KEY (e.g. dx, physics.alpha, fluid[0].velocity)")
+    table[match[3]] = value
 
 
 class _Checker:

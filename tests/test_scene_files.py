@@ -92,6 +92,10 @@ def test_overrides_replace_values_before_the_checks(tmp_path):
     assert (spec.dx, spec.alpha, spec.t_end) == (0.1, 0.05, 1.5)
     with pytest.raises(SceneFileError, match=re.escape("physics.alpha = -1: must be at least 0")):
         read(scene_file(tmp_path), {"physics.alpha": -1})
+    assert read(scene_file(tmp_path), {"fluid[0].velocity": [1.0, 0.0]}).fluid[0].velocity == (1.0, 0.0)
+    with pytest.raises(SceneFileError, match=re.escape("fluid[2].velocity = [1.0, 0.0] (set on the command line): "
+                                                       "no such table in the file")):
+        read(scene_file(tmp_path), {"fluid[2].velocity": [1.0, 0.0]})
 
 
 MISTAKES = [  # (old text, new text, key, value shown, problem)
