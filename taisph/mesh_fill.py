@@ -125,22 +125,8 @@ def _column_winding(corners, h, origin, kmin, shape) -> np.ndarray:
         lo_cols = np.ceil((x.min(axis=1, keepdims=True) - origin[0]) / h - 0.5).astype(np.int64)
         hi_cols = np.ceil((x.max(axis=1, keepdims=True) - origin[0]) / h - 0.5).astype(np.int64) - 1  # half-open
     sizes = np.where(orientation[:, None] != 0, np.maximum(hi_cols - lo_cols + 1, 0), 0)
-    counts = np.prod(sizes, axis=1)
     jumps = np.zeros(n_columns * (nz + 1))
-    ends = np.cumsum(counts)
-    first = 0
-    while first < len(counts):  # chunks of cells with at most PAIRS_PER_CHUNK column pairs
-        last = max(first + 1, int(np.searchsorted(ends, (ends[first - 1] if first else 0) + PAIRS_PER_CHUNK)))
-        cells = np.arange(first, min(last, len(counts)))
-        first = cells[-1] + 1
-        cell = np.repeat(cells, counts[cells])
-        if len(cell) == 0:
-            continue
-        local = np.arange(len(cell)) - np.repeat(np.cumsum(counts[cells]) - counts[cells], counts[cells])
-        col = np.empty((len(cell), d - 1), np.int64)
-        for axis in range(d - 2, -1, -1):
-            col[:, axis] = lo_cols[cell, axis] + local % sizes[cell, axis]
-            local //= sizes[cell, axis]
+    for cell, col in _cell_boxes(lo_cols, sizes):
         p = origin[:-1] + (col + 0.5) * h
         if d == 3:
             hit, height = _triangle_hits(corners[cell], p, orientation[cell])
@@ -189,12 +175,26 @@ def _within(corners, points, index, shape, depth, h, origin, kmin) -> np.ndarray
     hi = np.minimum(np.floor((corners.max(axis=1) + depth - origin) / h - 0.5).astype(np.int64) - kmin,
                     np.array(shape) - 1)
     sizes = np.maximum(hi - lo + 1, 0)
-    counts = np.prod(sizes, axis=1)
     near = np.zeros(len(points), bool)
     if d == 3:
         normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         length = np.linalg.norm(normals, axis=1, keepdims=True)
         normals = np.where(length > 0, normals / np.where(length > 0, length, 1.0), 0.0)
+    for cell, at in _cell_boxes(lo, sizes):
+        which = lookup[tuple(at.T)]
+        keep = (which >= 0) & ~near[np.maximum(which, 0)]
+        which, cell = which[keep], cell[keep]
+        if d == 3:  # farther than depth from the cell's plane: farther from the cell
+            keep = np.abs(np.einsum("ij,ij->i", points[which] - corners[cell, 0], normals[cell])) <= depth
+            which, cell = which[keep], cell[keep]
+        near[which[pair_distances(points[which], corners[cell]) <= depth]] = True
+    return near
+
+
+def _cell_boxes(lo, sizes):
+    """Yield ``(cell, index)`` pairs in chunks of at most PAIRS_PER_CHUNK: for each cell
+    k, the lattice indices of its box ``lo[k] + [0, sizes[k])`` (last axis fastest)."""
+    counts = np.prod(sizes, axis=1)
     ends = np.cumsum(counts)
     first = 0
     while first < len(counts):
@@ -205,15 +205,8 @@ def _within(corners, points, index, shape, depth, h, origin, kmin) -> np.ndarray
         if len(cell) == 0:
             continue
         local = np.arange(len(cell)) - np.repeat(np.cumsum(counts[cells]) - counts[cells], counts[cells])
-        at = np.empty((len(cell), d), np.int64)
-        for axis in range(d - 1, -1, -1):
-            at[:, axis] = lo[cell, axis] + local % sizes[cell, axis]
+        index = np.empty((len(cell), sizes.shape[1]), np.int64)
+        for axis in range(sizes.shape[1] - 1, -1, -1):
+            index[:, axis] = lo[cell, axis] + local % sizes[cell, axis]
             local //= sizes[cell, axis]
-        which = lookup[tuple(at.T)]
-        keep = (which >= 0) & ~near[np.maximum(which, 0)]
-        which, cell = which[keep], cell[keep]
-        if d == 3:  # farther than depth from the cell's plane: farther from the cell
-            keep = np.abs(np.einsum("ij,ij->i", points[which] - corners[cell, 0], normals[cell])) <= depth
-            which, cell = which[keep], cell[keep]
-        near[which[pair_distances(points[which], corners[cell]) <= depth]] = True
-    return near
+        yield cell, index

@@ -212,7 +212,13 @@ def main(argv) -> int:
     from .cli.main import _guarded, build_parser
 
     parser = build_parser()
-    parser.prog = "python -m taisph SCENE.toml"
+    parser.usage = "python -m taisph SCENE.toml [options]"
+    parser.description = ("Run a scene file (schema: docs/scenes.md). The options below replace the file's values "
+                          "where they apply; --set KEY=VALUE sets any key of the file, as TOML: "
+                          "--set physics.alpha=0.05, --set 'fluid[0].velocity=[1.0, 0.0]'.")
+    for action in parser._actions:  # argparse has no public way to reword an argument's help
+        if action.dest == "case":
+            action.help = "the scene file (a path, or the name of one shipped in cases/)"
     args = parser.parse_args(argv)
     return _guarded(run_file, find_scene_file(args.case[0]), args)
 
