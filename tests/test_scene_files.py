@@ -263,3 +263,29 @@ def test_3d_dam_break_against_the_mesh_obstacle(tmp_path):
     # comes closer than dx to its outer layer: fluid may lie up to about dx/2 inside
     # the mesh (measured: 0.53 dx at dx = 0.08 m, 0.66 dx at 0.05 m), never through it.
     assert max(depth) < dx, depth
+
+
+def test_mesh_fluid_blocks_and_obstacles_that_win_over_the_fluid(tmp_path):
+    vertices, faces = icosphere(1.0, 3)
+    meshio.write(tmp_path / "drop.stl", meshio.Mesh(vertices, [("triangle", faces)]), binary=True)
+    text = TANK.replace("dim = 2", "dim = 3").replace("[0.0, -9.81]", "[0.0, -9.81, 0.0]")
+    text = text.replace("box = [[0.0, 0.0], [1.0, 0.5]]", 'mesh = "drop.stl"\nscale = 0.2\ntranslate = [0.5, 0.4, 0.5]\n'
+                        "velocity = [0.0, -1.0, 0.0]")
+    text = text.replace("[[0.0, 0.0], [1.0, 1.0]]", "[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]")
+    text = text.replace('polygon = [[0.4, 0.6], [0.6, 0.6], [0.5, 0.8]]', 'box = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]')
+    text = text.replace("[0.5, 0.05]", "[0.5, 0.05, 0.5]").replace("[0.25]", "[0.25, 0.5]")
+    spec = read(scene_file(tmp_path, text))
+    scene, _ = load(scene_file(tmp_path, text))
+    drop = spec.fluid[0].surface
+    assert drop.measure == pytest.approx(4 / 3 * np.pi * 0.2**3, rel=0.02)  # the faceted sphere, scaled
+    # the drop is the lattice points (from the tank's corner, 0) inside the scaled, moved mesh
+    np.testing.assert_array_equal(scene.position[: scene.n_fluid], taisph.geometry.volume_points(drop, 0.05))
+    np.testing.assert_array_equal(scene.velocity[: scene.n_fluid], [[0.0, -1.0, 0.0]] * scene.n_fluid)
+    assert contains(drop, scene.position[: scene.n_fluid]).all()
+    # 2D: a fluid box overlapping the rock loses the particles inside the rock
+    overlapping = TANK.replace("box = [[0.0, 0.0], [1.0, 0.5]]", "box = [[0.0, 0.0], [1.0, 0.75]]")
+    spec = read(scene_file(tmp_path, overlapping))
+    scene, _ = load(scene_file(tmp_path, overlapping))
+    rock = spec.walls[1].surface
+    assert scene.n_fluid == 20 * 15 - int(contains(rock, taisph.geometry.lattice([0, 0], [1, 0.75], 0.05)).sum())
+    assert not contains(rock, scene.position[: scene.n_fluid]).any() and scene.n_fluid < 300
