@@ -141,3 +141,6 @@ def wall_layers(lo, hi, dx, layers, vertical_axis=None, open_top=True, periodic=
     pts = lattice(a, b, dx)
     inside = np.all((pts > lo) & (pts < hi), axis=1)
     return pts[~inside]
+
+# closed surfaces read from mesh files (STL, OBJ, VTK, ... or a 2D polygon): taisph/mesh_fill.py
+from .mesh_fill import surface_points, volume_points  # noqa: E402,F401

@@ -28,9 +28,10 @@ examples:
 Open OUT/CASE.pvd in ParaView (File > Open, Apply) to see the time series."""
 
 
-def build_parser(case: str | None = None) -> Parser:
+def build_parser(case: str | None = None, target_help: str = "case name, or 'list'") -> Parser:
     """The parser of ``python -m taisph CASE [options]``; with a case, its help lists the
-    case's parameters with their defaults and ranges, and its effects."""
+    case's parameters with their defaults and ranges, and its effects. `target_help`
+    describes the positional argument (a case, or a scene file)."""
     description = "taisph: smoothed particle hydrodynamics on Taichi."
     if case:
         description = f"{case}: {inspect.getdoc(cases.find(case))}"
@@ -41,7 +42,7 @@ def build_parser(case: str | None = None) -> Parser:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("case", nargs="?" if case else 1, help="case name, or 'list'")
+    parser.add_argument("case", nargs="?" if case else 1, help=target_help)
     g = parser.add_argument_group("resolution and time")
     g.add_argument("--dx", type=POSITIVE, help="particle spacing (m, > 0); sets the resolution")
     g.add_argument("--t-end", type=POSITIVE, help="simulated end time (s, > 0)")
@@ -91,6 +92,9 @@ def list_cases(out=None):
     for name, func in registry.items():
         doc = (inspect.getdoc(sys.modules[func.__module__]) or inspect.getdoc(func) or "").splitlines()[0]
         print(f"  {name:<{width}}  {doc}", file=out)
+    from ..scenefile_build import list_scene_files
+
+    list_scene_files(out)
 
 
 def main(argv=None) -> int:
@@ -106,6 +110,10 @@ def main(argv=None) -> int:
         return 0
     if command == "resume":
         return resume(argv[1:])
+    if command.endswith(".toml"):  # a scene file: taisph/scenefile.py
+        from ..scenefile_build import main as run_scene_file
+
+        return run_scene_file(argv)
     if command in ("run", "export"):  # the seed's file workflow
         from . import dat
 
@@ -135,17 +143,25 @@ def _guarded(func, *args) -> int:
 def run_case(name: str, argv) -> int:
     """``python -m taisph CASE [options]``: every option and parameter is checked (and
     the scene built) before anything is compiled or written."""
-    import taisph
-
     args = build_parser(name).parse_args(argv)
     kwargs = cases.case_arguments(name, args.set, dx=args.dx, integrator=args.integrator, kernel=args.kernel)
     scene = cases.find(name)(**kwargs)
     if args.dt is not None:
         scene.dt = args.dt
+    return simulate(scene, args)
+
+
+def simulate(scene, args, t_end=None, frames=None, notes=(), writers=()) -> int:
+    """Simulate `scene` as the case options `args` say (output folder, guards, machine,
+    progress), print its description (and `notes`), the set-up time and the summary."""
+    import taisph
+
     if args.neighbour_skin is not None:
         scene.neighbour_skin = args.neighbour_skin
-    out = None if args.no_output else (args.out or Path("out") / name)
+    out = None if args.no_output else (args.out or Path("out") / scene.name)
     print(scene.describe())
+    for line in notes:
+        print(f"  {line}")
     start = time.perf_counter()
     sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads,
                             max_density_error=args.max_density_error, remove_escaped=args.remove_escaped or None,
@@ -153,8 +169,9 @@ def run_case(name: str, argv) -> int:
     step = f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt else f"adaptive dt (first {sim.dt:.3g} s)"
     print(f"  {sim.runtime.arch}, {sim.runtime.precision}, {sim.runtime.threads} thread(s); {step}; "
           f"ready in {time.perf_counter() - start:.2f} s (kernel compilation included)")
-    summary = sim.run(args.t_end, frames=args.frames, out=out, progress=not args.no_progress,
-                      checkpoint_every=args.checkpoint_every)
+    summary = sim.run(args.t_end if t_end is None else t_end, frames=args.frames if frames is None else frames,
+                      out=out, progress=not args.no_progress, checkpoint_every=args.checkpoint_every,
+                      writers=writers)
     where = f"; open {Path(summary.out) / (scene.name + '.pvd')} in ParaView" if summary.out else ""
     print(f"done: {summary}{where}")
     return 0
