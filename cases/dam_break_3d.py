@@ -1,14 +1,15 @@
 """3D dam break: a water column collapses in a narrow tank (x along the flow, y up, z across)."""
 
-from taisph.parameters import (at_least, checked, flag, integer, known_integrator, known_kernel, optional, positive,
-                               smoothing_factor)
+from taisph.parameters import (at_least, between, checked, flag, integer, known_integrator, known_kernel, one_of,
+                               optional, positive, smoothing_factor)
 
-from .dam_break import _dam_break
+from .dam_break import WALL_MODELS, _dam_break
 
 
 @checked(dx=positive, width=positive, height=positive, depth=positive, tank_width=positive, tank_height=positive,
          alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
-         kernel=known_kernel, integrator=known_integrator, t_end=positive, frames=integer(at_least=1),
+         kernel=known_kernel, integrator=known_integrator, walls=one_of(*WALL_MODELS), wall_friction=flag,
+         delta=optional(at_least(0)), xsph=optional(between(0, 1)), t_end=positive, frames=integer(at_least=1),
          closed_top=flag)
 def dam_break_3d(
     dx: float = 0.05,
@@ -23,6 +24,10 @@ def dam_break_3d(
     g: float = 9.81,
     kernel: str = "spline",
     integrator: str = "pc",
+    walls: str = "lj",
+    wall_friction: bool = False,
+    delta: float | None = None,
+    xsph: float | None = None,
     t_end: float = 1.0,
     frames: int = 25,
     closed_top: bool = False,
@@ -30,7 +35,8 @@ def dam_break_3d(
     """The 2D dam break extruded to `depth` (m) between two side walls.
 
     Defaults: 1 x 2 x 1 m column in a 4 x 3 x 1 m tank, dx = 0.05 m (16000 fluid
-    particles), same physics and defaults as ``dam_break``.
+    particles), same physics, options and defaults as ``dam_break``.
     """
     return _dam_break(3, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break_3d", closed_top=closed_top)
+                      kernel, integrator, t_end, frames, "dam_break_3d", walls=walls, wall_friction=wall_friction,
+                      delta=delta, xsph=xsph, closed_top=closed_top)

@@ -101,6 +101,20 @@ class _PassSum:
         self.p.pair(s, i, j, rij, r, w, grad, acc)
 
 
+def _local_parameters(solver):
+    """A ti.func(s) -> s with ``params`` read into registers: inside a particle's loop
+    body every term reads its parameters from there, so the pair loop reloads none of
+    them from memory (with other arrays written in the same kernel, the compiler must
+    assume a store may change the parameter array, and reloads it for every pair)."""
+    n_params = solver.n_params
+
+    @ti.func
+    def local(s: ti.template()):
+        return ti.Vector([s.params[k] for k in ti.static(range(n_params))])
+
+    return local
+
+
 def _derive(solver):
     """A ti.func(s, i): the equation of state and the terms' ``derive`` for particle i."""
     eos = solver.eos
@@ -196,12 +210,13 @@ def force_body(solver):
     body_terms = [t for t in solver.terms if t.has_body]
     Rates = solver.Rates
     p_support2 = solver.param_rows["support2"]
+    local_parameters = _local_parameters(solver)
 
     @ti.func
-    def body(s: ti.template(), t_target):
-        support2 = s.params[p_support2]
-        dt = ti.cast(s.status[st.DT], real)
-        for i in range(s.Sv.shape[1]):
+    def body(s_mem: ti.template(), t_target):
+        dt = ti.cast(s_mem.status[st.DT], real)
+        for i in range(s_mem.Sv.shape[1]):
+            s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
             for k in ti.static(range(nv)):
                 s.Cv[k, i] = s.Sv[k, i]
             for k in ti.static(range(ns)):
@@ -213,7 +228,7 @@ def force_body(solver):
                 for t in ti.static(body_terms):
                     ti.static(_traced(t.name, "body"))
                     t.body(s, i, rates)
-                grid.for_each_neighbour(s, i, s.Sv[q.position, i], support2, visitor, rates)
+                grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], visitor, rates)
                 integ.update(s, i, rates, dt)
                 timestep.track(s, i, rates)
                 guards.check(s, i, rates)
