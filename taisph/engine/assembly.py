@@ -90,11 +90,13 @@ class Solver:
         vectors = list(extra_v)
         scalars = list(extra_s) + list(scene.eos.scalars)
         integers = []
+        derived = list(scene.eos.derived)
         for t in scene.terms:
             vectors += t.vectors
             scalars += t.scalars
             integers += t.integers
-        self.layout = layout = Layout(vectors, scalars, integers)
+            derived += t.derived
+        self.layout = layout = Layout(vectors, scalars, integers, derived)
         self.outputs = tuple(dict.fromkeys([*scene.eos.outputs, *(o for t in scene.terms for o in t.outputs)]))
 
         # --- runtime parameter table: engine parameters, then the terms' -----

@@ -134,7 +134,7 @@ def sort_body(solver, serial: bool):
     """dt, predictor, counting sort, scatter C -> S, equation of state (see above)."""
     layout = solver.layout
     q = layout.q
-    nv, ns, ni = len(layout.vectors), len(layout.scalars), len(layout.integers)
+    carried_v, carried_s, carried_i = layout.carried
     grid, integ, timestep = solver.grid, solver.integrator, solver.timestep
     derive = _derive(solver)
     real = solver.real
@@ -159,11 +159,11 @@ def sort_body(solver, serial: bool):
         ti.loop_config(serialize=serial)
         for i in range(n):
             slot = grid.slot(s, i, rebuild)
-            for k in ti.static(range(nv)):
+            for k in ti.static(carried_v):
                 s.Sv[k, slot] = s.Cv[k, i]
-            for k in ti.static(range(ns)):
+            for k in ti.static(carried_s):
                 s.Ss[k, slot] = s.Cs[k, i]
-            for k in ti.static(range(ni)):
+            for k in ti.static(carried_i):
                 s.Si[k, slot] = s.Ci[k, i]
             integ.predict(s, i, slot, dt)
             if ti.static(grid.any_periodic):
@@ -203,7 +203,7 @@ def force_body(solver):
     """Rates of every fluid particle, the integrator's update, dt maxima, guards."""
     layout = solver.layout
     q = layout.q
-    nv, ns, ni = len(layout.vectors), len(layout.scalars), len(layout.integers)
+    carried_v, carried_s, carried_i = layout.carried
     real, dim = solver.real, solver.dim
     grid, integ, timestep, guards = solver.grid, solver.integrator, solver.timestep, solver.guards
     visitor = _ForceSum(solver, [t for t in solver.terms if t.has_pair])
@@ -217,11 +217,11 @@ def force_body(solver):
         dt = ti.cast(s_mem.status[st.DT], real)
         for i in range(s_mem.Sv.shape[1]):
             s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
-            for k in ti.static(range(nv)):
+            for k in ti.static(carried_v):
                 s.Cv[k, i] = s.Sv[k, i]
-            for k in ti.static(range(ns)):
+            for k in ti.static(carried_s):
                 s.Cs[k, i] = s.Ss[k, i]
-            for k in ti.static(range(ni)):
+            for k in ti.static(carried_i):
                 s.Ci[k, i] = s.Si[k, i]
             if s.Si[q.kind, i] == FLUID:
                 rates = Rates(acc=ti.Vector.zero(real, dim))  # other members zero-initialised

@@ -15,6 +15,10 @@ Base quantities (always present)::
 Terms, the equation of state and the integrator add rows (e.g. the predictor-
 corrector keeps last step's rates ``acc_prev``, ``d_density_prev``).
 
+*Derived* quantities (pressure, sound speed, P/rho^2, a wall's extrapolated velocity...)
+are recomputed from the state every step, after the state is gathered in cell order:
+the step copies only the other, *carried*, rows from one buffer to the other.
+
 A variable smoothing length is the scalar ``h`` (:data:`VARIABLE_H`), stored by the
 term that sets it (:mod:`taisph.terms.smoothing_length`). Its presence switches the
 neighbour sums, at compile time, from the scene's constant h to per-particle values.
@@ -38,10 +42,14 @@ VARIABLE_H = "h"  # per-particle smoothing length, when a term varies it
 class Layout:
     """Row indices of every stored quantity; ``layout.q.name`` is the row of ``name``."""
 
-    def __init__(self, vectors=(), scalars=(), integers=()):
+    def __init__(self, vectors=(), scalars=(), integers=(), derived=()):
         self.vectors = _unique(BASE_VECTORS + tuple(vectors))
         self.scalars = _unique(BASE_SCALARS + tuple(scalars))
         self.integers = _unique(BASE_INTEGERS + tuple(integers))
+        self.derived = frozenset(derived) | {"pressure"}  # the equation of state's output
+        # rows a step carries from one buffer to the other (all but the derived ones)
+        self.carried = tuple(tuple(k for k, name in enumerate(group) if name not in self.derived)
+                             for group in (self.vectors, self.scalars, self.integers))
         rows = {}
         for group in (self.vectors, self.scalars, self.integers):
             for k, name in enumerate(group):

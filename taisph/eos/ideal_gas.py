@@ -25,6 +25,7 @@ class IdealGas:
     name = "ideal_gas"
     columns = ("gamma",)  # per-material constants (material table)
     scalars = ("sound_speed", "energy")  # per-particle quantities it stores
+    derived = ("sound_speed",)  # ... recomputed from the state every step (not carried)
     outputs = ("energy", "sound_speed")  # written to the ParaView frames
 
     def material_row(self, material) -> list:

@@ -20,6 +20,7 @@ class Tait:
     name = "tait"
     columns = ("rho0", "c0", "gamma", "B")  # per-material constants (material table)
     scalars = ("sound_speed",)  # per-particle quantities it stores
+    derived = ("sound_speed",)  # ... recomputed from the state every step (not carried)
     outputs = ()  # stored quantities worth writing to the frames
 
     def material_row(self, material) -> list:

@@ -38,6 +38,7 @@ from .base import NeighbourPass, Term
 class AdamiWall(Term):
     name = "dummy_walls"
     vectors = ("wall_velocity",)
+    derived = ("wall_velocity",)
     outputs = ()
 
     def bound(self, layout, param_rows, material_cols, eos, rate_rows, kernel=None):

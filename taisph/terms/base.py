@@ -33,6 +33,9 @@ A term class declares (all optional):
 ``viscosity_param``
     the name of the parameter holding a physical kinematic viscosity nu (m^2/s),
     which limits the time step to C h^2 / nu (:mod:`taisph.engine.timestep`);
+``derived``
+    which of its stored quantities it recomputes every step from the state (in
+    ``derive`` or a pass): they are not carried from one step to the next;
 ``has_shift``
     the term adds ``rates.shift``, a velocity correction that moves particles but is
     not their momentum (XSPH); the integrator advances positions with v + shift;
@@ -87,6 +90,7 @@ class Term:
     scalars: tuple = ()
     integers: tuple = ()
     integrates: dict = {}
+    derived: tuple = ()
     takes_walls = False
     wall_range = "support"
     viscosity_param = None

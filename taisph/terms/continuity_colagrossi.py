@@ -25,6 +25,7 @@ class ContinuityColagrossi(Term):
     integrates = {"density": "d_density"}
     wall_range = None  # fluid neighbours only
     scalars = ("volume",)
+    derived = ("volume",)
 
     def check(self, scene):
         if "continuity" in scene.terms_by_name:

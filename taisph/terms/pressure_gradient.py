@@ -18,6 +18,7 @@ from .base import Term
 class PressureGradient(Term):
     name = "pressure"
     scalars = ("p_over_rho2",)
+    derived = ("p_over_rho2",)
 
     takes_walls = True
 

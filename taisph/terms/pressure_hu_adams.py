@@ -33,6 +33,7 @@ class PressureHuAdams(Term):
     name = "pressure_hu_adams"
     wall_range = None  # fluid neighbours only
     scalars = ("volume",)
+    derived = ("volume",)
 
     def check(self, scene):
         if "pressure" in scene.terms_by_name:

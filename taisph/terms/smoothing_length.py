@@ -33,6 +33,7 @@ class AdaptiveSmoothingLength(Term):
     name = "adaptive_h"
     params = {"h_factor": 1.2}
     scalars = (VARIABLE_H,)
+    derived = (VARIABLE_H,)
     outputs = (VARIABLE_H,)
 
     def initial(self, scene) -> np.ndarray:
