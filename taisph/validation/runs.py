@@ -48,6 +48,7 @@ class Outcome:
     dx: float = float("nan")
     wall: float = 0.0  # seconds spent stepping
     setup: float = 0.0  # seconds to build the simulation (kernel compilation included)
+    sim_time: float = 0.0  # simulated time reached (s)
     series: dict = field(default_factory=dict)
     diverged: bool = False
 
@@ -108,7 +109,8 @@ class _Runner:
         out = Outcome(case=case, params=dict(params), precision=sim.runtime.precision,
                       error=float("inf") if self.diverged else float(error), error_name=name,
                       metrics=metrics, fluid=sim.n_fluid, particles=sim.n, steps=sim.steps, dt=sim.dt,
-                      dx=self.scene.dx, wall=self.wall, setup=self.setup, series=series, diverged=self.diverged)
+                      dx=self.scene.dx, wall=self.wall, setup=self.setup, sim_time=sim.time, series=series,
+                      diverged=self.diverged)
         sim.close()
         return out
 
