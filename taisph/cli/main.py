@@ -13,6 +13,7 @@ python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
 python -m taisph CASE --help        the case's description and parameters
 python -m taisph list               list the built-in cases
 python -m taisph resume DIR         continue a run from its checkpoint folder
+python -m taisph sweep CASE --vary NAME=v1,v2 --out DIR   runs of every combination on a Dask cluster (sweep --help)
 python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL   the seed's files (run --help)
 python -m taisph export CASE --dat DIR    a case as the seed's files (export --help)"""
 
@@ -137,6 +138,10 @@ def main(argv=None) -> int:
         return 0
     if command == "resume":
         return resume(argv[1:])
+    if command == "sweep":  # parameter sweeps on a Dask cluster: taisph/cli/sweep.py
+        from .sweep import main as sweep_main
+
+        return sweep_main(argv[1:])
     if command in ("run", "export"):  # the seed's file workflow: taisph/seed.py
         from .. import seed
 
