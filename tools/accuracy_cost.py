@@ -3,6 +3,7 @@
     python tools/accuracy_cost.py                  # full study (< 30 min on 2 cores), writes docs/accuracy/
     python tools/accuracy_cost.py --quick --out /tmp/study   # CI: dam_break and poiseuille, small sizes
     python tools/accuracy_cost.py --cases poiseuille couette --out /tmp/study
+    python tools/accuracy_cost.py --scheduler tcp://host:8786   # spread over a Dask cluster
 
 For every validation case (``taisph.validation``) it runs a baseline configuration
 and one-factor-at-a-time variations of it (kernel, integrator, precision, wall model,
@@ -18,7 +19,12 @@ per second. It writes
     wp_<case>.png          work-precision plot: error against wall time, log-log,
                            one line per configuration, one point per resolution
 
-Runs are grouped by precision (Taichi's precision is process-wide). Each wall time is
+Every run is a task of taisph's sweeps (:mod:`taisph.sweeps`) in a Dask worker process:
+by default one local worker, so runs go one at a time on all cores as they always did;
+``--workers N`` runs N at a time, ``--scheduler ADDRESS`` spreads them over an existing
+cluster (``docs/sweeps.md``). ``setup_s`` is the sweep's compile time: building a
+simulation until its first step is done (kernels compile once per worker process and
+configuration). Runs are grouped by precision (Taichi's precision is process-wide). Each wall time is
 one run (``--repeat N`` takes the median of N): on a shared 2-core machine timings
 vary by up to 2x, so read differences below ~30 % as noise.
 """
@@ -44,7 +50,6 @@ if str(ROOT) not in sys.path:  # run from a source checkout without installing
     sys.path.insert(0, str(ROOT))
 
 import taisph  # noqa: E402
-from taisph import validation  # noqa: E402
 
 F64, F32 = "f64", "f32"
 
@@ -153,19 +158,34 @@ def plan(cases, quick):
     return runs
 
 
-def execute(run, repeat):
-    walls = []
-    out = None
-    for _ in range(repeat):
-        out = validation.run(run["case"], precision=run["precision"], **run["params"])
-        walls.append(out.wall)
-    wall = statistics.median(walls)
+def tasks_of(runs, repeat):
+    """The study's runs as sweep tasks (validation runs), `repeat` tasks per run."""
+    from taisph.sweeps import Task
+
+    return [Task(run["case"], f"{run['case']} {run['config']} dx={run['dx']:g} #{k}", dict(run["params"]),
+                 {"precision": run["precision"]}, validate=True, tag=(index, k))
+            for index, run in enumerate(runs) for k in range(repeat)]
+
+
+def row_of(run, results):
+    """The table row of `run` from its repeats' results: the median wall time."""
+    out = results[-1]
+    failed = [r for r in results if r["status"] != "ok" and not r["diverged"]]
+    if failed:
+        return dict(case=run["case"], config=run["config"], precision=run["precision"], dx=run["dx"],
+                    fluid_particles=0, particles=0, steps=0, dt=float("nan"), wall_s=float("nan"),
+                    setup_s=float("nan"), particle_steps_per_s=float("nan"), error=float("nan"), error_name="",
+                    diverged=False, params=json.dumps(run["params"], sort_keys=True), metrics="{}",
+                    failure=failed[0]["failure"])
+    wall = statistics.median(r["wall_s"] for r in results)
     return dict(
-        case=run["case"], config=run["config"], precision=out.precision, dx=run["dx"], fluid_particles=out.fluid,
-        particles=out.particles, steps=out.steps, dt=out.dt, wall_s=wall, setup_s=out.setup,
-        particle_steps_per_s=out.fluid * out.steps / wall if wall > 0 else float("nan"), error=out.error,
-        error_name=out.error_name, diverged=out.diverged, params=json.dumps(run["params"], sort_keys=True),
-        metrics=json.dumps(out.metrics, sort_keys=True), failure="",
+        case=run["case"], config=run["config"], precision=out["precision"], dx=run["dx"],
+        fluid_particles=out["fluid_particles"], particles=out["particles"], steps=out["steps"], dt=out["dt"],
+        wall_s=wall, setup_s=out["compile_s"],
+        particle_steps_per_s=out["fluid_particles"] * out["steps"] / wall if wall > 0 else float("nan"),
+        error=out["error"], error_name=out["error_name"], diverged=out["diverged"],
+        params=json.dumps(run["params"], sort_keys=True), metrics=json.dumps(out["metrics"], sort_keys=True),
+        failure="",
     )
 
 
@@ -255,11 +275,15 @@ def main(argv=None):
     p.add_argument("--cases", nargs="+", choices=list(STUDY), help="cases to run (default: all; --quick: dam_break, poiseuille)")
     p.add_argument("--out", default=str(ROOT / "docs" / "accuracy"), help="output folder (default docs/accuracy)")
     p.add_argument("--repeat", type=int, default=1, help="runs per point; the median wall time is reported")
-    p.add_argument("--threads", type=int, default=None, help="Taichi CPU threads (default: all cores)")
+    p.add_argument("--threads", type=int, default=None,
+                   help="Taichi CPU threads per run (default: cores / workers; 1 with --scheduler)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=1,
+                       help="runs at a time, each in a worker process of a local Dask cluster (default 1)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on an existing Dask cluster (dask scheduler / dask worker), e.g. tcp://host:8786")
     args = p.parse_args(argv)
-
-    if args.threads:
-        os.environ["TAISPH_THREADS"] = str(args.threads)
+    from taisph.sweeps.cluster import connect, run_tasks
     cases = args.cases or (list(QUICK_CASES) if args.quick else list(STUDY))
     folder = Path(args.out)
     folder.mkdir(parents=True, exist_ok=True)
@@ -268,21 +292,24 @@ def main(argv=None):
     print(f"{len(runs)} runs: {', '.join(cases)}", flush=True)
     load_start = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     start = time.perf_counter()
-    rows = []
-    for k, run in enumerate(runs, 1):
-        t0 = time.perf_counter()
-        try:
-            row = execute(run, args.repeat)
-        except Exception as err:  # keep going: a failed configuration is a result too
-            row = dict(case=run["case"], config=run["config"], precision=run["precision"], dx=run["dx"],
-                       fluid_particles=0, particles=0, steps=0, dt=float("nan"), wall_s=float("nan"),
-                       setup_s=float("nan"), particle_steps_per_s=float("nan"), error=float("nan"), error_name="",
-                       diverged=False, params=json.dumps(run["params"], sort_keys=True), metrics="{}",
-                       failure=f"{type(err).__name__}: {err}")
+    rows, results, threads = [], {}, set()
+    tasks = tasks_of(runs, args.repeat)
+
+    def finished(task, result):  # a run's last repeat finishing makes its row
+        index, _ = task.tag
+        results.setdefault(index, []).append(result)
+        threads.add(result["threads"])
+        if len(results[index]) < args.repeat:
+            return
+        run = runs[index]
+        row = row_of(run, results[index])
         rows.append(row)
-        print(f"[{k}/{len(runs)}] {row['case']:16s} {row['config']:44s} dx={row['dx']:<8.4g} "
-              f"error={fmt(row['error'])} wall={fmt(row['wall_s'])} s ({time.perf_counter() - t0:.1f} s) "
+        print(f"[{len(rows)}/{len(runs)}] {row['case']:16s} {row['config']:44s} dx={row['dx']:<8.4g} "
+              f"error={fmt(row['error'])} wall={fmt(row['wall_s'])} s (compile {fmt(row['setup_s'])} s) "
               f"{row['failure']}", flush=True)
+
+    with connect(workers=args.workers, scheduler=args.scheduler, tasks=len(tasks)) as (client, default_threads):
+        run_tasks(tasks, client, args.threads or default_threads, on_result=finished)
     total = time.perf_counter() - start
     load_end = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     # table order: per case, configurations and resolutions as listed in STUDY (the f32 runs
@@ -306,7 +333,8 @@ def main(argv=None):
     header = (f"# Accuracy and cost\n\nMade by `{command}` in {total / 60:.1f} min "
               f"(taisph {taisph.__version__} at commit {git_commit()}, taichi {taichi_version}, "
               f"Python {platform.python_version()}, {os.cpu_count()} cores, "
-              f"{taisph.engine.runtime.current().threads} thread(s)). Wall time: stepping only, "
+              f"{'/'.join(map(str, sorted(threads)))} thread(s) per run, {args.workers if not args.scheduler else 'cluster'} "
+              f"run(s) at a time). Wall time: stepping only, "
               f"{'median of %d runs' % args.repeat if args.repeat > 1 else 'one run'} per point, on a shared machine "
               f"(1-minute load average {load_start:.1f} at the start, {load_end:.1f} at the end, on "
               f"{os.cpu_count()} cores: other jobs shared the machine; differences below ~30 % are noise). "
