@@ -90,6 +90,7 @@ def main(argv) -> int:
     args = build_parser().parse_args(argv)
     from ..sweeps import SweepError, plan, sweep
 
+    before = _table_runs(args.out, args.retry_failed)
     try:
         vary = plan.parse_vary(args.vary)
         fixed = fixed_values(args)
@@ -100,6 +101,21 @@ def main(argv) -> int:
         print(f"taisph sweep: error: {err}", file=sys.stderr)
         return 2
     failed = sum(row["status"] != "ok" for row in rows)
+    kept = sum(row["run"] in before for row in rows)
     print((args.out / "sweep.md").read_text(), end="")
-    print(f"\n{len(rows)} runs: {len(rows) - failed} ok, {failed} failed; table in {args.out / 'sweep.csv'}")
+    print(f"\n{len(rows)} runs: {len(rows) - failed} ok, {failed} failed"
+          + (f" ({kept} already in the table, not run again)" if kept else "")
+          + f"; table in {args.out / 'sweep.csv'}")
     return 0
+
+
+def _table_runs(folder: Path, retry_failed: bool) -> set:
+    """Names of the runs an earlier sweep into `folder` left in its table (that a
+    rerun keeps: with --retry-failed, the ok ones only)."""
+    import csv
+
+    path = folder / "sweep.csv"
+    if not path.exists():
+        return set()
+    with open(path, newline="") as f:
+        return {row["run"] for row in csv.DictReader(f) if not retry_failed or row.get("status") == "ok"}

@@ -60,7 +60,7 @@ def connect(client=None, workers: int | None = None, scheduler: str | None = Non
     if workers < 1:
         raise SweepError(f"workers must be at least 1, got {workers}")
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+                           silence_logs=logging.ERROR, env={"ENABLE_TAICHI_HEADER_PRINT": "0"})  # no banners
     with cluster, Client(cluster) as own:
         yield own, max(1, (os.cpu_count() or 1) // workers)
 

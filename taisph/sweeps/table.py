@@ -81,7 +81,8 @@ def markdown(varied: list[str], rows: list[dict], title: str) -> str:
                                                          for c in shown]) + "|")
     for row in rows:
         cells = [value_text(row[n]) for n in varied]
-        cells += [_short(row.get(c)).replace("|", "\\|") for c in shown]
+        failed = row.get("status") != "ok"  # a failed run's counts are unknown, not 0
+        cells += ["–" if failed and c in INTEGER_COLUMNS else _short(row.get(c)).replace("|", "\\|") for c in shown]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
@@ -106,14 +107,22 @@ def read(folder: Path, varied: list[str]) -> list[dict]:
     return rows
 
 
+def _flat(identity: dict) -> dict:
+    """{"case": .., "fixed": {"t_end": ..}} -> {"case": .., "t_end": ..}: what differs, by name."""
+    flat = {k: v for k, v in identity.items() if k != "fixed"}
+    flat.update(identity.get("fixed", {}))
+    return flat
+
+
 def check_identity(folder: Path, identity: dict) -> None:
     """Write DIR/sweep.json, or check that an earlier sweep into `folder` was this one."""
     path = folder / "sweep.json"
     if path.exists():
         before = json.loads(path.read_text())
         if before != identity:
-            changed = sorted(k for k in set(before) | set(identity) if before.get(k) != identity.get(k))
-            detail = "; ".join(f"{k}: was {before.get(k)!r}, now {identity.get(k)!r}" for k in changed)
+            was, now = _flat(before), _flat(identity)
+            changed = sorted(k for k in set(was) | set(now) if was.get(k) != now.get(k))
+            detail = "; ".join(f"{k}: was {was.get(k)!r}, now {now.get(k)!r}" for k in changed)
             raise SweepError(f"{folder} holds another sweep ({detail}); resume it with the same case and options, "
                              "or give another output folder")
         return

@@ -15,7 +15,9 @@ its state are those of a direct run and its wall time holds no compilation.
 
 from __future__ import annotations
 
+import contextlib
 import gc
+import io
 import math
 import os
 import socket
@@ -101,7 +103,8 @@ def _warm_up(task: Task, scene) -> float:
 def _run(task: Task, result: dict) -> None:
     from ..engine import runtime
 
-    rt = runtime.init("cpu", task.settings["precision"], task.settings.get("threads"))
+    with contextlib.redirect_stdout(io.StringIO()):  # ti.init prints "[Taichi] Starting on arch=x64"
+        rt = runtime.init("cpu", task.settings["precision"], task.settings.get("threads"))
     result["threads"] = rt.threads
     scene = _scene(task)
     result["compile_s"] = _warm_up(task, scene)
