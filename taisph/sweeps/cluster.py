@@ -50,7 +50,7 @@ def connect(client=None, workers: int | None = None, scheduler: str | None = Non
     if scheduler is not None:
         try:
             own = Client(scheduler, timeout="10s")
-        except OSError as err:
+        except (OSError, ValueError) as err:  # no answer, or not an address
             raise SweepError(f"cannot reach the Dask scheduler at {scheduler}: {err}") from None
         with own:
             _check_workers(own, scheduler)
@@ -73,7 +73,8 @@ def _check_workers(client, address: str | None = None) -> None:
                          f"{WORKER_WAIT_S} s; start some: dask worker ADDRESS --nworkers N --nthreads 1") from None
     busy = {addr: n for addr, n in client.nthreads().items() if n > 1}
     if busy:
-        warnings.warn(f"{len(busy)} Dask worker(s) have more than one thread ({', '.join(f'{a}: {n}' for a, n in busy.items())}); "
+        listed = ", ".join(f"{address}: {n}" for address, n in busy.items())
+        warnings.warn(f"{len(busy)} Dask worker(s) have more than one thread ({listed}); "
                       "a worker process runs one taisph run at a time (Taichi's runtime belongs to a process), so "
                       "the other threads stay idle: start workers with --nthreads 1 --nworkers N", stacklevel=3)
 
