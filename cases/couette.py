@@ -1,8 +1,14 @@
 """Start-up plane Couette flow: the upper wall starts moving, periodic along the channel (Morris, Fox & Zhu 1997)."""
 
+from taisph.parameters import (at_least, checked, finite, integer, known_integrator, known_kernel, optional,
+                               positive, smoothing_factor)
+
 from .poiseuille import _channel
 
 
+@checked(dx=positive, L=positive, nu=positive, V0=finite, rho0=positive, c0=positive, h_factor=smoothing_factor,
+         kernel=known_kernel, integrator=known_integrator, delta=optional(at_least(0)), t_end=positive,
+         frames=integer(at_least=1))
 def couette(
     dx: float = 5e-5,
     L: float = 1e-3,

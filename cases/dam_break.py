@@ -6,12 +6,19 @@ import numpy as np
 
 from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice, wall_layers
+from taisph.parameters import (ParameterError, at_least, between, checked, flag, integer, known_integrator, known_kernel,
+                               lattice_count, one_of, optional, positive, smoothing_factor)
 from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall, PressureGradient, XSPH
 from taisph.eos import tait
 
 WALL_MODELS = ("lj", "dummy")
 
 
+@checked(dx=positive, width=positive, height=positive, tank_width=positive, tank_height=positive,
+         alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
+         kernel=known_kernel, integrator=known_integrator, walls=one_of(*WALL_MODELS), wall_friction=flag,
+         delta=optional(at_least(0)), xsph=optional(between(0, 1)), t_end=positive, frames=integer(at_least=1),
+         closed_top=flag)
 def dam_break(
     dx: float = 0.02,
     width: float = 1.0,
@@ -39,9 +46,10 @@ def dam_break(
     Tait water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed),
     Lennard-Jones walls (seed eq. 13) of particles dx/2 apart with r0 = dx/2 and
     D = 5 g H / r0. The column starts in hydrostatic equilibrium (inverse Tait).
-    The tank is open at the top (late splashes can go over a wall and leave the
-    domain, which stops the run unless escaped particles are removed) unless
-    `closed_top`.
+    The tank is open at the top unless `closed_top`: water may run up a wall, fly
+    above the domain and fall back (the top is not a guard), and water that goes over
+    a wall and leaves the domain elsewhere is removed and counted (the run summary
+    accounts for its mass).
 
     walls: "lj" (Lennard-Jones, the default) or "dummy" (layers of dummy particles
     with pressure extrapolated from the fluid, Adami et al. 2012: correct wall
@@ -59,11 +67,19 @@ def dam_break(
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
                kernel, integrator, t_end, frames, name, walls="lj", wall_friction=False, delta=None, xsph=None,
                description=None, closed_top=False):
-    if walls not in WALL_MODELS:
-        raise ValueError(f"walls must be one of {', '.join(WALL_MODELS)}, got {walls!r}")
+    # what the ranges of single parameters cannot say (they are checked by each case's @checked)
+    if width > tank_width or height > tank_height:
+        raise ParameterError(f"{name}: the water column (width = {width:g} m, height = {height:g} m) must fit in "
+                             f"the tank (tank_width = {tank_width:g} m, tank_height = {tank_height:g} m)")
+    sides = [("width", width), ("height", height)] + ([("depth", depth)] if dim == 3 else [])
+    lattice_count(name, "the water column", dx, *sides)
+    # the tank's walls are cut from a lattice over the whole tank (geometry.box_walls), as
+    # much memory as the tank filled at dx
+    lattice_count(name, "the tank", dx, ("tank_width", tank_width), ("tank_height", tank_height),
+                  *([("depth", depth)] if dim == 3 else []))
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
-    up = dim - 1  # index of the vertical axis (y in 2D and 3D)
+    up = 1  # the vertical axis: y in 2D and in 3D (x along the flow, z across in 3D)
     gravity = [0.0] * dim
     gravity[up] = -g
     dummy = walls == "dummy"
@@ -91,8 +107,11 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         dim=dim,
         dx=dx,
         smoothing_length=h,
-        # open top: leave room above the tank for splashes before the guards call it an escape
+        # the neighbour grid covers the tank and a margin above it; particles beyond are
+        # still simulated exactly (only more slowly)
         domain=(np.array(lo) - dx, np.array(tank_hi) + dx + np.eye(dim)[up] * 0.5 * tank_height),
+        open_faces=() if closed_top else ("+y",),
+        remove_escaped=True,
         materials=[water],
         terms=terms,
         kernel=kernel,

@@ -1,8 +1,15 @@
 """3D dam break: a water column collapses in a narrow tank (x along the flow, y up, z across)."""
 
+from taisph.parameters import (at_least, checked, flag, integer, known_integrator, known_kernel, optional, positive,
+                               smoothing_factor)
+
 from .dam_break import _dam_break
 
 
+@checked(dx=positive, width=positive, height=positive, depth=positive, tank_width=positive, tank_height=positive,
+         alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
+         kernel=known_kernel, integrator=known_integrator, t_end=positive, frames=integer(at_least=1),
+         closed_top=flag)
 def dam_break_3d(
     dx: float = 0.05,
     width: float = 1.0,

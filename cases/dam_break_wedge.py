@@ -9,8 +9,14 @@ from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
 from taisph.eos import tait
+from taisph.parameters import (ParameterError, at_least, checked, integer, known_integrator, known_kernel,
+                               lattice_count, optional, positive, smoothing_factor)
 
 
+@checked(dx=positive, width=positive, height=positive, tank_width=positive, tank_height=positive,
+         wedge_start=positive, wedge_base=positive, wedge_height=positive, alpha=at_least(0),
+         c0=optional(positive), h_factor=smoothing_factor, g=positive, kernel=known_kernel,
+         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
 def dam_break_wedge(
     dx: float = 0.02,
     width: float = 1.0,
@@ -41,8 +47,15 @@ def dam_break_wedge(
     (the wedge's two faces too) with r0 = dx/2 and D = 5 g H / r0, a column in
     hydrostatic equilibrium. Default dx = 0.02 m: 5000 fluid particles.
     """
-    if not (wedge_height > 0 and wedge_base > 0 and width < wedge_start and wedge_start + wedge_base < tank_width):
-        raise ValueError("the wedge must lie on the floor between the column and the right wall")
+    if not (width < wedge_start and wedge_start + wedge_base < tank_width):
+        raise ParameterError(f"dam_break_wedge: the wedge (from wedge_start = {wedge_start:g} m to wedge_start + "
+                             f"wedge_base = {wedge_start + wedge_base:g} m) must lie on the floor between the column "
+                             f"(width = {width:g} m) and the right wall (tank_width = {tank_width:g} m)")
+    if height > tank_height or wedge_height >= tank_height:
+        raise ParameterError(f"dam_break_wedge: the column (height = {height:g} m) and the wedge (wedge_height = "
+                             f"{wedge_height:g} m) must fit under tank_height = {tank_height:g} m")
+    lattice_count("dam_break_wedge", "the water column", dx, ("width", width), ("height", height))
+    lattice_count("dam_break_wedge", "the tank", dx, ("tank_width", tank_width), ("tank_height", tank_height))
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
     spacing = r0 = dx / 2.0

@@ -7,10 +7,16 @@ import numpy as np
 from taisph.geometry import ball, extrude, polyline, side_walls
 from taisph.scene import Material, Scene
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
+from taisph.parameters import (ParameterError, at_least, checked, integer, known_integrator, known_kernel,
+                               lattice_count, one_of, optional, positive, smoothing_factor)
 
 SQRT2 = math.sqrt(2.0)
 
 
+@checked(dim=one_of(2, 3), dx=optional(positive), radius=positive, fall=at_least(0), impact_x=positive,
+         incline=positive, floor=at_least(0), tank_height=positive, depth=positive, side_wall_height=positive,
+         alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive, kernel=known_kernel,
+         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
 def drop_on_incline(
     dim: int = 2,
     dx: float | None = None,
@@ -50,20 +56,35 @@ def drop_on_incline(
     largest speed is that of a free fall from there). The drop starts at rho0: a body
     in free fall carries no hydrostatic pressure.
     """
-    if dim not in (2, 3):
-        raise ValueError(f"drop_on_incline is 2D or 3D, got dim={dim!r}")
     dx = (0.01 if dim == 2 else 0.025) if dx is None else dx
-    if not 0 < impact_x < incline:
-        raise ValueError("impact_x must lie over the inclined plane (0 < impact_x < incline)")
+    width = incline + floor
+    if not impact_x < incline:
+        raise ParameterError(f"drop_on_incline: impact_x = {impact_x:g} m must lie over the inclined plane, "
+                             f"0 < impact_x < incline = {incline:g} m")
+    if not radius < impact_x or not impact_x + radius < width:
+        raise ParameterError(f"drop_on_incline: the drop (radius = {radius:g} m around impact_x = {impact_x:g} m) "
+                             f"must lie between the left wall (x = 0) and the right wall (x = incline + floor = "
+                             f"{width:g} m)")
+    if dim == 3 and not 2 * radius < depth:
+        raise ParameterError(f"drop_on_incline: the sphere (radius = {radius:g} m) must fit between the side walls "
+                             f"(depth = {depth:g} m)")
     # centre: touching the plane y = incline - x after falling `fall`
     centre_y = incline - impact_x + radius * SQRT2 + fall
     top = centre_y + radius
     if top + 2 * dx > tank_height:
-        raise ValueError(f"the drop (top at y = {top:g} m) does not fit under tank_height = {tank_height:g} m")
+        raise ParameterError(f"drop_on_incline: the drop (top at y = incline - impact_x + (1 + sqrt 2) radius + fall "
+                             f"= {top:g} m, plus 2 dx) does not fit under tank_height = {tank_height:g} m")
+    lattice_count("drop_on_incline", "the drop", dx, *[("radius", radius)] * dim)
+    if dim == 3:  # the side walls are cut from a lattice over the container's side, dx/2 apart
+        lattice_count("drop_on_incline", "the side walls", dx / 2, ("incline + floor", width),
+                      ("tank_height", tank_height), spacing_name="dx/2")
+    else:
+        outline = 2 * tank_height + SQRT2 * incline + floor
+        lattice_count("drop_on_incline", "the container's wall", dx / 2,
+                      ("its length 2 tank_height + sqrt(2) incline + floor", outline), spacing_name="dx/2")
     c0 = 10.0 * math.sqrt(2.0 * g * top) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
     spacing = r0 = dx / 2.0
-    width = incline + floor
     gravity = (0.0, -g) if dim == 2 else (0.0, -g, 0.0)
     lo = [0.0, 0.0] + ([0.0] if dim == 3 else [])
     hi = [width, tank_height] + ([depth] if dim == 3 else [])

@@ -8,8 +8,13 @@ from taisph.scene import Material, Scene
 from taisph.geometry import lattice
 from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, PressureGradient, XSPH
 from taisph.eos import tait
+from taisph.parameters import (at_least, between, checked, finite, integer, known_integrator, known_kernel,
+                               lattice_count, optional, positive, smoothing_factor)
 
 
+@checked(dx=positive, R=positive, A0=finite, rho0=positive, c0=positive, h_factor=smoothing_factor,
+         kernel=known_kernel, integrator=known_integrator, alpha=at_least(0), delta=optional(at_least(0)),
+         xsph=optional(between(0, 1)), t_end=positive, frames=integer(at_least=1))
 def elliptical_drop(
     dx: float = 0.025,
     R: float = 1.0,
@@ -27,7 +32,7 @@ def elliptical_drop(
 ):
     """A drop of radius R (m), no gravity, free surface all round, initial velocity
     u = -A0 x, v = A0 y. It stays an ellipse x^2/a^2 + y^2/b^2 = 1 with a b = R^2;
-    a(t), b(t) follow an ODE (``taisph.analytic.elliptical_drop``). Monaghan (1994) /
+    a(t), b(t) follow an ODE (``taisph.validation.references.analytic.elliptical_drop``). Monaghan (1994) /
     PySPH set-up: R = 1, A0 = 100 1/s, rho0 = 1, c0 = 1400 m/s, t_end = 0.0076 s
     (b grows to 1.9445); dx = 0.025 by default (5024 particles).
 
@@ -36,6 +41,7 @@ def elliptical_drop(
     in PySPH's WCSPH scheme; 0 to switch off); delta: density diffusion
     coefficient (0 or None: off); xsph: XSPH epsilon (0 or None: off).
     """
+    lattice_count("elliptical_drop", "the drop", dx, ("R", R), ("R", R))
     fluid = Material("fluid", rho0=rho0, c0=c0, gamma=7.0)
     terms = [Continuity(), PressureGradient()]
     if alpha:

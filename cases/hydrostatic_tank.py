@@ -1,8 +1,15 @@
 """Hydrostatic tank: still water in a closed tank must stay still, with p = rho g (H - y) (Adami, Hu & Adams 2012, sec. 6)."""
 
-from .dam_break import _dam_break
+from taisph.parameters import (at_least, checked, flag, integer, known_integrator, known_kernel, lattice_count,
+                               one_of, optional, positive, smoothing_factor)
+
+from .dam_break import WALL_MODELS, _dam_break
 
 
+@checked(dx=positive, width=positive, height=positive, alpha=at_least(0), c0=optional(positive),
+         h_factor=smoothing_factor, g=positive, kernel=known_kernel, integrator=known_integrator,
+         walls=one_of(*WALL_MODELS), wall_friction=flag, delta=optional(at_least(0)), t_end=positive,
+         frames=integer(at_least=1))
 def hydrostatic_tank(
     dx: float = 0.025,
     width: float = 1.0,
@@ -30,6 +37,7 @@ def hydrostatic_tank(
     zig-zag pressure mode of the particle row on the floor grows after ~3 s (rms
     pressure error 1.7 % at 8 s with dx = 0.05 m, 0.09 % with delta = 0.1).
     """
+    lattice_count("hydrostatic_tank", "the tank", dx, ("width", width), ("1.5 height", 1.5 * height))
     return _dam_break(2, dx, width, height, None, width, 1.5 * height, alpha, c0, h_factor, g, kernel, integrator,
                       t_end, frames, "hydrostatic_tank", walls=walls, wall_friction=wall_friction, delta=delta,
                       description=f"{width:g} m x {height:g} m of still water in a closed tank")

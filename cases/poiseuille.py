@@ -7,8 +7,13 @@ import numpy as np
 from taisph.scene import Material, Scene
 from taisph.geometry import lattice, wall_layers
 from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, PressureGradient
+from taisph.parameters import (ParameterError, at_least, checked, finite, integer, known_integrator, known_kernel,
+                               lattice_count, optional, positive, smoothing_factor)
 
 
+@checked(dx=positive, L=positive, nu=positive, F=finite, rho0=positive, c0=positive, h_factor=smoothing_factor,
+         kernel=known_kernel, integrator=known_integrator, delta=optional(at_least(0)), t_end=positive,
+         frames=integer(at_least=1))
 def poiseuille(
     dx: float = 5e-5,
     L: float = 1e-3,
@@ -31,7 +36,7 @@ def poiseuille(
     Walls: dummy particles with extrapolated pressure and the no-slip velocity of
     Adami et al. (2012); Morris laminar viscosity; no artificial viscosity. c0 = 0.01
     m/s (Mach 2.5e-3; Morris et al.'s criterion c0^2 >= F L / 0.01 asks for 4.5e-3).
-    dt = min(acoustic CFL, 0.125 h^2/nu), the viscous limit of Morris et al.
+    Adaptive dt: the acoustic CFL and the viscous limit 0.125 h^2/nu of Morris et al.
     delta: density diffusion coefficient (no hydrostatic correction: the body force
     is balanced by the walls' shear, not by pressure), 0 or None for none.
     """
@@ -44,7 +49,8 @@ def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_e
              description):
     n_across = round(L / dx)
     if n_across < 4 or not math.isclose(n_across * dx, L, rel_tol=1e-9):
-        raise ValueError(f"dx = {dx:g} must divide the channel width L = {L:g} into at least 4 layers")
+        raise ParameterError(f"{name}: dx = {dx:g} m must divide the channel width L = {L:g} m into a whole "
+                             f"number of layers, at least 4 (dx = L/4, L/5, ...)")
     water = Material("fluid", rho0=rho0, c0=c0, gamma=7.0)
     terms = [
         Continuity(walls=True),
@@ -63,6 +69,7 @@ def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_e
     # periodic length: at least 3 kernel supports (the neighbour grid's minimum), whole particles
     n_along = math.ceil(3.0 * support / dx * (1 + 1e-9)) + 1
     length = n_along * dx
+    lattice_count(name, "the channel", dx, ("L", L), ("its periodic length", length))
     layers = math.ceil(support / dx - 1e-9)
     pad = (layers + 1) * dx
     scene.domain = (np.array([0.0, -pad]), np.array([length, L + pad]))
@@ -70,6 +77,4 @@ def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_e
     walls = wall_layers((0.0, 0.0), (length, L), dx, layers, open_top=False, periodic=(True, False))
     scene.add_walls(walls[walls[:, 1] < 0])
     scene.add_walls(walls[walls[:, 1] > L], velocity=(wall_speed, 0.0))
-    dt_acoustic = scene.stable_dt()
-    scene.dt = min(dt_acoustic, 0.125 * h * h / nu)
     return scene

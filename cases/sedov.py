@@ -3,10 +3,17 @@
 import numpy as np
 
 from taisph import gas
+from taisph.engine.timestep import initial_dt
 from taisph.scene import Gas, Scene
 from taisph.geometry import lattice
+from taisph.parameters import (ParameterError, at_least, checked, courant_number, flag, greater_than, integer,
+                               known_integrator, known_kernel, lattice_count, one_of, positive, smoothing_factor)
 
 
+@checked(dx=positive, energy=positive, rho0=positive, p0=at_least(0), gamma=greater_than(1), size=positive,
+         density=one_of(*gas.DENSITY), conductivity=flag, variable_h=flag, alpha=at_least(0), beta=at_least(0),
+         alpha_u=at_least(0), h_factor=smoothing_factor, courant=courant_number, kernel=known_kernel,
+         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
 def sedov(
     dx: float = 0.01,
     energy: float = 1.0,
@@ -29,7 +36,7 @@ def sedov(
 ) -> "Scene":
     """Energy `energy` released at the centre of a square of gas (side `size`, density
     rho0, pressure p0, at rest): a cylindrical blast wave whose radius grows as
-    R = xi0 (E t^2 / rho0)^(1/4), xi0 = 1.004 for gamma = 1.4 (taisph.sedov_taylor).
+    R = xi0 (E t^2 / rho0)^(1/4), xi0 = 1.004 for gamma = 1.4 (taisph.validation.references.sedov_taylor).
 
     2D lattice of spacing dx, centred on the explosion; periodic sides (the shock stays
     far from them until t_end). The energy is given to the particles within 2h of the
@@ -48,6 +55,7 @@ def sedov(
     courant h / c_max(0), c_max(0) the sound speed of the hottest particle: the blast
     cools quickly, so most steps are shorter than they need to be.
     """
+    lattice_count("sedov", "the square", dx, ("size", size), ("size", size))
     h = h_factor * dx
     half = 0.5 * size
     points = lattice([-half, -half], [half, half], dx)
@@ -70,12 +78,16 @@ def sedov(
         frames=frames,
         description=f"blast of E = {energy:g} in gas of density {rho0:g}, gamma = {gamma:g}",
     )
+    if 3 * scene.support_radius > size:  # the neighbour grid needs 3 cells along a period
+        raise ParameterError(f"sedov: the periodic square (size = {size:g}) must span 3 kernel supports, 3 x "
+                             f"{scene.support_radius:g} (h_factor = {h_factor:g}, dx = {dx:g}, {kernel} kernel): "
+                             f"use a smaller dx or h_factor")
     # energy deposit: the cubic-spline shape of radius 2h (whatever the kernel)
     q = np.linalg.norm(points, axis=1) / h
     w = np.where(q < 1, 1 - 1.5 * q**2 + 0.75 * q**3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0))
     e = p0 / ((gamma - 1.0) * rho0) + energy * w / (mass * w.sum())
     scene.add_fluid(points, mass=mass, density=rho0, energy=e)
-    scene.dt = gas.cfl_dt(scene, courant)
+    scene.dt = initial_dt(scene, courant=courant)
     return scene
 
 

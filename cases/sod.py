@@ -3,11 +3,21 @@
 import numpy as np
 
 from taisph import gas
+from taisph.engine.timestep import initial_dt
 from taisph.scene import Gas, Scene
+from taisph.parameters import (ParameterError, at_least, checked, courant_number, finite, flag, greater_than,
+                               integer, known_integrator, known_kernel, lattice_count, one_of, positive,
+                               smoothing_factor, vector)
 
 SPACINGS = ("equal_mass", "equal_spacing")
+STATE = vector(("rho", "u", "p"), positive, finite, positive)
 
 
+@checked(dx=positive, left=STATE, right=STATE, gamma=greater_than(1), x0=positive, length=positive,
+         spacing=one_of(*SPACINGS), density=one_of(*gas.DENSITY), conductivity=flag, variable_h=flag,
+         alpha=at_least(0), beta=at_least(0), alpha_u=at_least(0), h_factor=smoothing_factor,
+         courant=courant_number, kernel=known_kernel, integrator=known_integrator, t_end=positive,
+         frames=integer(at_least=1))
 def sod(
     dx: float = 0.5 / 400,
     left: tuple = (1.0, 0.0, 1.0),
@@ -43,18 +53,21 @@ def sod(
     Effects (taisph.gas.effects): density by summation (or continuity), energy
     equation, Monaghan viscosity alpha = 1, beta = 2 with heating, Price conductivity
     alpha_u = 1, h = h_factor (m / rho) per particle (variable_h). Fixed time step
-    courant * h_min / c_max(0) (taisph.gas.cfl_dt; stable up to courant = 0.5).
+    courant * h_min / c_max(0) (taisph.engine.timestep.initial_dt; stable up to courant = 0.5).
 
     h_factor = 1: with the cubic spline in 1D, h = dx makes both the lattice density
     sum and the pressure force across a plane exact on a uniform lattice. At the
     common h = 1.2 dx the force is 2.2 % too strong there, the waves run ~1 % fast and
     the errors stop converging near 0.0033 (docs/gas.md).
     """
-    if spacing not in SPACINGS:
-        raise ValueError(f"spacing must be one of {', '.join(SPACINGS)}, got {spacing!r}")
     (rho_l, u_l, p_l), (rho_r, u_r, p_r) = left, right
     dx_l = dx
     dx_r = dx * rho_l / rho_r if spacing == "equal_mass" else dx
+    if not x0 < length:
+        raise ParameterError(f"sod: the diaphragm x0 = {x0:g} must lie inside the tube, 0 < x0 < length = {length:g}")
+    lattice_count("sod", "the left state", dx_l, ("x0", x0))
+    lattice_count("sod", "the right state", dx_r, ("length - x0", length - x0),
+                  spacing_name="dx rho_L / rho_R" if spacing == "equal_mass" else "dx")
     n_l = int(round(x0 / dx_l))
     n_r = int(round((length - x0) / dx_r))
     x_l = x0 - dx_l * (np.arange(n_l)[::-1] + 0.5)
@@ -80,11 +93,15 @@ def sod(
         description=f"shock tube, (rho, u, p) = {tuple(left)} | {tuple(right)}, gamma = {gamma:g}, "
                     f"diaphragm at x = {x0:g} of [0, {length:g}] ({spacing.replace('_', ' ')})",
     )
+    if 3 * scene.support_radius > 2 * length:  # the neighbour grid needs 3 cells along the period
+        raise ParameterError(f"sod: the tube and its mirror image (2 length = {2 * length:g}) must span 3 kernel "
+                             f"supports, 3 x {scene.support_radius:g} (h_factor = {h_factor:g}, dx = {dx:g}): "
+                             f"use a smaller dx")
     for x, rho, u, p, m in ((x_l, rho_l, u_l, p_l, m_l), (x_r, rho_r, u_r, p_r, m_r)):
         e = gas.energy(p, rho, gamma)
         scene.add_fluid(x[:, None], mass=m, density=rho, velocity=u, energy=e)
         scene.add_fluid(2.0 * length - x[:, None], mass=m, density=rho, velocity=-u, energy=e)  # mirror
-    scene.dt = gas.cfl_dt(scene, courant)
+    scene.dt = initial_dt(scene, courant=courant)
     return scene
 
 
@@ -102,7 +119,7 @@ def tube(sim, length: float = 1.0) -> dict:
 
 def compare(state: dict, problem, t: float, x0: float = 0.5) -> dict:
     """Errors of a tube state (:func:`tube`) against the exact solution `problem`
-    (a :class:`taisph.riemann.RiemannProblem`) at time t:
+    (a :class:`taisph.validation.references.riemann.RiemannProblem`) at time t:
 
     - ``L1_rho``, ``L1_u``, ``L1_p``, ``L1_e``: mean over the particles of |q - q_exact(x)|;
     - ``L1x_...``: the same integrated over x, (1/L) int |q - q_exact| dx (trapezoid

@@ -7,8 +7,14 @@ from taisph.scene import Material, Scene
 from taisph.geometry import lattice
 from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting, PressureGradient, XSPH
 from taisph.eos import tait
+from taisph.parameters import (ParameterError, at_least, between, checked, flag, integer, known_integrator,
+                               known_kernel, lattice_count, optional, positive, smoothing_factor)
 
 
+@checked(dx=positive, Re=positive, U=positive, L=positive, rho0=positive, c0=optional(positive),
+         h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator, alpha=optional(at_least(0)),
+         delta=optional(at_least(0)), xsph=optional(between(0, 1)), shifting=flag, t_end=positive,
+         frames=integer(at_least=1))
 def taylor_green(
     dx: float = 0.02,
     Re: float = 100.0,
@@ -36,12 +42,19 @@ def taylor_green(
     shifting (Sun et al. 2017) with U as reference speed - on by default: without it
     the lattice tears at the vortices' stagnation points by t ~ 0.2 and the solution
     is lost. delta: density diffusion coefficient (0.1 by default, 0 or None: off);
-    xsph: XSPH epsilon (0 or None: off). dt = min(acoustic CFL, 0.125 h^2/nu).
+    xsph: XSPH epsilon (0 or None: off). Adaptive dt: the acoustic CFL and the viscous limit 0.125 h^2/nu.
     """
     n = round(L / dx)
     if n < 8 or not math.isclose(n * dx, L, rel_tol=1e-9):
-        raise ValueError(f"dx = {dx:g} must divide L = {L:g} into at least 8 particles")
+        raise ParameterError(f"taylor_green: dx = {dx:g} m must divide L = {L:g} m into a whole number of "
+                             f"particles, at least 8 (dx = L/8, L/9, ...)")
+    lattice_count("taylor_green", "the periodic box", dx, ("L", L), ("L", L))
     c0 = 10.0 * U if c0 is None else c0
+    # the initial pressure p = -rho0 U^2/4 (cos 4 pi x/L + cos 4 pi y/L) reaches -rho0 U^2/2, and the
+    # Tait density of a pressure below -rho0 c0^2/7 does not exist
+    if not c0 > math.sqrt(3.5) * U:
+        raise ParameterError(f"taylor_green: c0 = {c0:g} m/s must exceed sqrt(7/2) U = {math.sqrt(3.5) * U:g} m/s, "
+                             f"or the initial pressure (down to -rho0 U^2/2) has no Tait density; use c0 >= 10 U")
     nu = U * L / Re
     fluid = Material("fluid", rho0=rho0, c0=c0, gamma=7.0)
     terms = [Continuity(), PressureGradient(), LaminarViscosity(nu=nu)]
@@ -58,8 +71,11 @@ def taylor_green(
                   periodic=(True, True), materials=[fluid], terms=terms, kernel=kernel, integrator=integrator,
                   t_end=t_end, frames=frames,
                   description=f"Taylor-Green vortex, Re = {Re:g}, {n} x {n} particles in a periodic box")
+    if 3 * scene.support_radius > L:  # the neighbour grid needs 3 cells along a period
+        raise ParameterError(f"taylor_green: the periodic box (L = {L:g} m) must span 3 kernel supports, 3 x "
+                             f"{scene.support_radius:g} m (h_factor = {h_factor:g}, dx = {dx:g} m, {kernel} kernel): "
+                             f"use a smaller dx or h_factor")
     pts = lattice((0.0, 0.0), (L, L), dx)
     u, v, p = analytic.taylor_green(pts[:, 0], pts[:, 1], 0.0, U=U, L=L, nu=nu, rho=rho0)
     scene.add_fluid(pts, velocity=list(zip(u, v)), density=tait.density(p, rho0, c0, 7.0))
-    scene.dt = min(scene.stable_dt(), 0.125 * h * h / nu)
     return scene

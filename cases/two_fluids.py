@@ -8,8 +8,14 @@ from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice
 from taisph.terms import ArtificialViscosity, ContinuityColagrossi, Gravity, LennardJonesWall, PressureHuAdams
 from taisph.eos import tait
+from taisph.parameters import (ParameterError, at_least, checked, integer, known_integrator, known_kernel,
+                               lattice_count, optional, positive, smoothing_factor)
 
 
+@checked(dx=positive, width=positive, height=positive, tank_height=positive, density_ratio=positive,
+         upper_density=positive, amplitude=at_least(0), alpha=at_least(0), c0=optional(positive),
+         lower_c0=optional(positive), h_factor=smoothing_factor, g=positive, kernel=known_kernel,
+         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
 def two_fluids(
     dx: float = 0.02,
     width: float = 1.0,
@@ -51,10 +57,14 @@ def two_fluids(
     hydrostatic (the pressure of the fluid above, through each material's inverse
     Tait). Default dx = 0.02 m: 5000 fluid particles.
     """
-    if not (density_ratio > 0 and math.isfinite(density_ratio)):
-        raise ValueError(f"density_ratio (upper / lower density) must be positive, got {density_ratio!r}")
-    if not 0 <= amplitude < 0.25 * height:
-        raise ValueError(f"amplitude must be in [0, height/4), got {amplitude!r}")
+    if not amplitude < 0.25 * height:
+        raise ParameterError(f"two_fluids: amplitude must be below height/4 = {0.25 * height:g} m (the interface "
+                             f"stays inside the box), got {amplitude!r}")
+    if height > tank_height:
+        raise ParameterError(f"two_fluids: the liquid (height = {height:g} m) must fit under the walls "
+                             f"(tank_height = {tank_height:g} m)")
+    lattice_count("two_fluids", "the liquid", dx, ("width", width), ("height", height))
+    lattice_count("two_fluids", "the tank", dx, ("width", width), ("tank_height", tank_height))
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     upper = Material("upper", rho0=upper_density, c0=c0, gamma=7.0)
     lower_c0 = c0 if lower_c0 is None else lower_c0

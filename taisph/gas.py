@@ -17,19 +17,18 @@ The set (each a term in ``taisph/terms/``):
 - optionally a variable smoothing length h = eta (m/rho)^(1/dim)
   (:class:`AdaptiveSmoothingLength`).
 
-:func:`cfl_dt` gives a fixed time step from the initial state.
+A fixed time step from the initial state: :func:`taisph.engine.timestep.initial_dt`
+(the gas cases use courant = 0.2: shocks raise the signal speed above its initial value).
 """
 
 from __future__ import annotations
-
-import numpy as np
 
 from .eos import IdealGas
 from .terms import (AdaptiveSmoothingLength, ArtificialConductivity, ArtificialViscosity, Continuity,
                     InternalEnergy, PressureGradient, SummationDensity)
 from .eos.ideal_gas import energy, pressure, sound_speed
 
-__all__ = ["effects", "cfl_dt", "IdealGas", "energy", "pressure", "sound_speed", "DENSITY"]
+__all__ = ["effects", "IdealGas", "energy", "pressure", "sound_speed", "DENSITY"]
 
 DENSITY = ("summation", "continuity")
 
@@ -48,17 +47,3 @@ def effects(density: str = "summation", conductivity: bool = True, variable_h: b
         terms.append(ArtificialConductivity(alpha_u=alpha_u))
     return terms
 
-
-def cfl_dt(scene, courant: float = 0.2) -> float:
-    """A fixed time step dt = courant h_min / (c_max + |v|_max) from the initial state:
-    c_max the largest initial sound speed sqrt(gamma p / rho), h_min the smallest
-    initial smoothing length.
-
-    The initial state does not show the faster signals a shock brings (Monaghan's 1992
-    condition dt = 0.3 h / (c + 1.2 (alpha c + beta max mu)) counts the viscosity's
-    too; in the Sod tube the post-shock u* + c* is 1.6 c_max(0)), hence a margin:
-    the Sod tube (pc integrator) runs stably up to courant = 0.5 and blows up at 0.6,
-    and its errors at 0.2 equal those at 0.05 to 1 % (docs/gas.md)."""
-    c = scene.eos.max_sound_speed(scene)
-    v = float(np.max(np.linalg.norm(scene.velocity, axis=1), initial=0.0))
-    return courant * scene.smallest_smoothing_length() / (c + v)

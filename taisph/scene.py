@@ -33,6 +33,14 @@ class Material:
     gamma: float = 7.0
     _positive = ("rho0", "c0", "gamma")  # constants check() requires (not a dataclass field)
 
+    def set(self, **values):
+        """Change constants by name (``rho0``, ``c0``, ``gamma``), checked."""
+        for key, value in values.items():
+            if not hasattr(self, key) or key == "name":
+                raise KeyError(f"materials have no constant {key!r} (rho0, c0, gamma)")
+            setattr(self, key, float(value))
+        self.check()
+
     def check(self):
         for key in self._positive:
             v = getattr(self, key)
@@ -64,8 +72,11 @@ class Scene:
 
     Particles are added in blocks with :meth:`add_fluid` and :meth:`add_walls`.
     ``domain`` is the box ``(lo, hi)`` the neighbour grid covers; particles outside it
-    are still simulated correctly (only more slowly). ``dt=None`` chooses a stable
-    step from the sound speed, gravity and smoothing length (:meth:`stable_dt`).
+    are still simulated correctly (only more slowly); the guards stop a run when a
+    particle leaves it by more than a kernel support, except along periodic axes and
+    through the faces listed in ``open_faces`` (e.g. ``("+y",)``, the open top of a
+    tank: water may fly up and fall back). ``dt=None`` (the default) adapts the step
+    to the flow (:mod:`taisph.engine.timestep`); a number fixes it.
     """
 
     name: str
@@ -84,8 +95,13 @@ class Scene:
     eos: object = field(default_factory=Tait)
     periodic: tuple = None  # per axis; the domain's extent is the period
     # neighbour lists reused while no particle has moved half this skin (a fraction of
-    # the support radius); 0: walk the cells every step (see taisph.grid)
+    # the support radius); 0: walk the cells every step (see taisph.engine.neighbours)
     neighbour_skin: float = 0.0
+    # faces of the domain particles may cross without tripping the guards: "-x", "+y"...
+    open_faces: tuple = ()
+    # particles that leave the domain elsewhere are removed and counted (instead of
+    # stopping the run); the simulation's remove_escaped control overrides this
+    remove_escaped: bool = False
     # per-particle data, filled by add_fluid/add_walls
     position: np.ndarray = None
     velocity: np.ndarray = None
@@ -110,6 +126,7 @@ class Scene:
         lo, hi = self.domain
         self.domain = (np.asarray(lo, float).reshape(d), np.asarray(hi, float).reshape(d))
         self.periodic = (False,) * d if self.periodic is None else tuple(bool(p) for p in self.periodic)
+        self.open_faces = (self.open_faces,) if isinstance(self.open_faces, str) else tuple(self.open_faces)
 
     # --- building -------------------------------------------------------------
     def add_particles(self, position, kind="fluid", material=0, mass=None, density=None, velocity=None,
@@ -175,6 +192,27 @@ class Scene:
             out.update(t.values)
         return out
 
+    def set(self, **values):
+        """Change parameters by name: ``smoothing_length``, any term's parameter (e.g.
+        ``alpha``, ``gravity``), or a material constant (``rho0``, ``c0``, ``gamma``: of
+        every material). Raises KeyError naming the unknown one, ValueError (from
+        :meth:`validate`) for a bad value."""
+        by_param = {k: t for t in self.terms for k in t.params}
+        material_keys = {"rho0", "c0", "gamma"}
+        for key in values:
+            if key not in by_param and key not in material_keys and key != "smoothing_length":
+                names = sorted(set(self.parameters()) | material_keys)
+                raise KeyError(f"no parameter {key!r}; parameters: {', '.join(names)}")
+        for key, value in values.items():
+            if key == "smoothing_length":
+                self.smoothing_length = float(value)
+            elif key in material_keys:
+                for m in self.materials:
+                    setattr(m, key, float(value))
+            else:
+                by_param[key].values[key] = value
+        self.validate()
+
     def smallest_smoothing_length(self) -> float:
         """The scene's h, or if a term varies it (``initial(scene)``, e.g. adaptive_h)
         the smallest initial one."""
@@ -183,28 +221,6 @@ class Scene:
             if hasattr(t, "initial"):
                 h = min(h, float(np.min(t.initial(self), initial=h)))
         return h
-
-    def stable_dt(self, courant: float = 0.2) -> float:
-        """A fixed time step from the acoustic CFL condition and the force condition
-        (Monaghan 1992 sec. 10; Monaghan 2005 eq. 4.12):
-
-            dt = min( C h / (c_max + |v|_max),  C sqrt(h / |g|) ),  C = 0.2.
-
-        c_max is the largest material c0, or for an equation of state that knows it
-        (an ideal gas) the largest initial sound speed; h is the smallest initial
-        smoothing length if it varies. For shocks, which raise the signal speed above
-        its initial value, the gas cases use :func:`taisph.gas.cfl_dt` instead.
-        """
-        h = self.smallest_smoothing_length()
-        max_sound_speed = getattr(self.eos, "max_sound_speed", None)  # a gas: from its state
-        c_max = max_sound_speed(self) if max_sound_speed else max(m.c0 for m in self.materials)
-        v_max = float(np.max(np.linalg.norm(self.velocity, axis=1))) if self.n else 0.0
-        dt = courant * h / (c_max + v_max)
-        for t in self.terms:
-            g = t.values.get("gravity")
-            if g is not None and np.linalg.norm(g) > 0:
-                dt = min(dt, courant * math.sqrt(h / np.linalg.norm(g)))
-        return dt
 
     # --- checking -----------------------------------------------------------------
     def validate(self) -> None:
@@ -261,6 +277,10 @@ class Scene:
             raise ValueError(f"scene {self.name!r}: domain {lo} .. {hi} is empty")
         if len(self.periodic) != d:
             raise ValueError(f"scene {self.name!r}: periodic needs {d} flags, got {self.periodic}")
+        faces = [s + a for a in "xyz"[:d] for s in "-+"]
+        for face in self.open_faces:
+            if face not in faces:
+                raise ValueError(f"scene {self.name!r}: open face {face!r} is not one of {', '.join(faces)}")
         for name, values in self.quantities.items():
             values = np.asarray(values, float)
             if len(values) != n or not np.all(np.isfinite(values)):
@@ -285,6 +305,10 @@ class Scene:
         ]
         if any(self.periodic):
             lines.append("  periodic along " + ", ".join("xyz"[k] for k, p in enumerate(self.periodic) if p))
+        if self.open_faces:
+            lines.append(f"  open at {', '.join(self.open_faces)}: particles may leave and come back there")
+        if self.remove_escaped:
+            lines.append("  particles that leave the domain elsewhere are removed and counted")
         if self.neighbour_skin > 0:
             lines.append(f"  neighbour lists with a skin of {self.neighbour_skin:g} support radii")
         return "\n".join(lines)

@@ -1,23 +1,18 @@
-"""The seed's workflow: simulate particle files, and export cases as particle files.
+"""The seed's workflow as scenes: build a scene from the seed's particle files, write a
+scene as those files, and judge the health of a run from them.
 
-``python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL [options]`` reads
-the seed's particle file (and optional boundary file, :mod:`taisph.seedio`), runs
-the seed's physics and writes ``fluid.dat`` (the seed's text output) and ParaView
-frames. ``python -m taisph export CASE --dat DIR`` writes a built-in case as those
-files plus the exact ``run`` command line that reproduces it (``DIR/run.txt``).
-
-From Python: :func:`load_scene` builds a :class:`taisph.Scene` from files,
-:func:`export_scene` writes one, :func:`run_files` is the ``run`` command.
-Details, defaults and examples: ``docs/seed.md``.
+:func:`load_scene` builds a :class:`taisph.Scene` from a particle file and an optional
+boundary file (read by :mod:`taisph.io.dat`) with :class:`Physics` (defaults computed
+from the particles), :func:`export_scene` writes a scene as those files plus the
+``run`` command line that simulates it exactly, and :func:`health` lists what is wrong
+with a run's fluid state. The commands ``python -m taisph run`` and ``export`` are
+in :mod:`taisph.cli.dat`. Details, defaults and examples: ``docs/seed.md``.
 """
 
 from __future__ import annotations
 
-import argparse
 import math
 import shlex
-import sys
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,8 +22,10 @@ from .io import dat as seedio
 from .scene import Material, Scene
 from .terms import (ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall,
                     PressureGradient, PressureHuAdams)
+from .engine.timestep import fixed_dt
 from .eos import tait
 
+# the seed's words for integrators and kernels (the `run` command's INTEGRATOR, KERNEL)
 INTEGRATOR_WORDS = {"euler": "euler", "eulermid": "eulermid", "eulermom": "eulermom", "pc": "pc",
                     "predictorcorrector": "pc"}
 KERNEL_WORDS = ("spline", "gaussian", "wendland")
@@ -90,7 +87,7 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
                frames: int = 20, name: str | None = None):
     """A :class:`taisph.Scene` from a seed particle file (and boundary file).
 
-    `particles` and `boundary` are paths or :class:`taisph.seedio.ParticleData`.
+    `particles` and `boundary` are paths or :class:`taisph.io.dat.ParticleData`.
     Returns ``(scene, energy)``: ``energy`` is the particle file's energy column (in
     index order), which taisph does not evolve (the liquid's energy is decoupled,
     seed sec. 2) and writes back unchanged. The pressure column is not used:
@@ -275,7 +272,7 @@ def export_scene(scene, folder, t_end: float | None = None, dt: float | None = N
                                scene.density[w], np.zeros(len(w)))
         files.append(str(folder / "boundary.dat"))
     t_end = scene.t_end if t_end is None else t_end
-    dt = (scene.dt if scene.dt is not None else scene.stable_dt()) if dt is None else dt
+    dt = (scene.dt if scene.dt is not None else fixed_dt(scene)) if dt is None else dt
     frames = scene.frames if frames is None else frames
     av = scene.terms_by_name["artificial_viscosity"]
     argv = ["run", *files, _fmt(t_end), _fmt(dt), scene.integrator, scene.kernel,
@@ -297,177 +294,7 @@ def export_scene(scene, folder, t_end: float | None = None, dt: float | None = N
     return argv
 
 
-# --- command line ------------------------------------------------------------------------------
-RUN_USAGE = "python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL [options]"
-RUN_DESCRIPTION = """\
-Simulate the seed's particle file INIT (and wall particles from BOUNDARY) until TFINAL
-with time step DT, writing OUT/fluid.dat (the seed's text output) and ParaView frames
-(OUT/NAME.pvd).
-
-  INTEGRATOR  euler | eulermid (= eulermom) | pc (= predictorcorrector)
-  KERNEL      spline | gaussian | wendland
-
-Particle files: first line the particle count, then one line per particle
-`index x y u v mass density pressure energy` (3D: `index x y z u v w mass density
-pressure energy`), indices from 0. The pressure column is not used (taisph computes
-pressure from density with the Tait equation); energy is carried through to fluid.dat
-unchanged. Defaults are water's; see docs/seed.md."""
-RUN_EPILOG = """\
-defaults computed from the files: dx = median (mass/rho0)^(1/dim) of the fluid
-particles; H = height of the highest fluid particle above the lowest particle;
-c0 = 10 sqrt(2 g H) (or 10x the fastest initial speed); h = 1.3 dx; r0 = the wall
-particles' spacing (median nearest-neighbour distance); D = 5 g H / r0.
-
-examples:
-  python -m taisph export dam_break_wedge --dat wedge/      # writes files + the run command
-  python -m taisph run wedge/particles.dat wedge/boundary.dat 1.5 8e-5 pc spline
-  python -m taisph run drop.dat walls.dat 0.5 0.0001 pc gaussian --alpha 0.2"""
-
-
-def _floats(text: str) -> list:
-    try:
-        return [float(v) for v in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
-
-
-def _positive(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
-    return v
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        raise UsageError(f"{message}\nusage: {self.format_usage().split(':', 1)[1].strip()}")
-
-
-class UsageError(ValueError):
-    pass
-
-
-def run_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="python -m taisph run", usage=RUN_USAGE, description=RUN_DESCRIPTION, epilog=RUN_EPILOG,
-                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("values", nargs="*", metavar="INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL")
-    g = p.add_argument_group("fluid (comma-separated lists give one value per material)")
-    g.add_argument("--rho0", type=_floats, default=[1000.0],
-                   help="reference density per material (default 1000); each particle gets the material "
-                        "whose rho0 is nearest its density")
-    g.add_argument("--c0", type=_floats, help="sound speed per material (default 10 sqrt(2 g H))")
-    g.add_argument("--gamma", type=_floats, default=[7.0], help="Tait exponent (default 7)")
-    g.add_argument("--formulation", choices=["auto", "seed", "multiphase"], default="auto",
-                   help="seed: eqs. 7-8; multiphase: Colagrossi & Landrini continuity + Hu & Adams pressure; "
-                        "auto (default): multiphase if more than one material")
-    g = p.add_argument_group("numerics and forces")
-    g.add_argument("--h", type=_positive, help="smoothing length (default 1.3 dx)")
-    g.add_argument("--alpha", type=float, default=0.1, help="artificial viscosity alpha (default 0.1)")
-    g.add_argument("--beta", type=float, default=0.0, help="artificial viscosity beta (default 0)")
-    g.add_argument("--eta-factor", type=float, default=0.01, help="eta^2 = eta_factor h^2 (default 0.01)")
-    g.add_argument("--gravity", type=_floats, help="gravity vector (default 0,-9.81 in 2D, 0,-9.81,0 in 3D)")
-    g.add_argument("--lj-strength", type=float, help="wall force D in m/s^2 (default 5 g H / r0)")
-    g.add_argument("--lj-cutoff", type=_positive, help="wall force range r0 (default: the wall spacing)")
-    g.add_argument("--dim", type=int, choices=[2, 3], help="insist on 2D (9 columns) or 3D (11 columns)")
-    g.add_argument("--domain", type=_floats, help="neighbour grid box lo..hi, e.g. --domain=-1,-1,5,5 "
-                                                   "(default: the particles' bounding box)")
-    g = p.add_argument_group("output and machine")
-    g.add_argument("--frames", type=int, default=20, help="output frames after the initial one (default 20)")
-    g.add_argument("--out", type=Path, help="output folder (default out/NAME)")
-    g.add_argument("--name", help="name of the run and of its .pvd (default: INIT's file name)")
-    g.add_argument("--precision", choices=["f32", "f64"], default="f64")
-    g.add_argument("--threads", type=int, help="CPU threads (default: all cores)")
-    g.add_argument("--no-progress", action="store_true", help="no progress bar")
-    return p
-
-
-def _positional(values):
-    if len(values) not in (5, 6):
-        raise UsageError(f"expected INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL (5 or 6 values), got "
-                         f"{len(values)}: {' '.join(values) or '(none)'}\nusage: {RUN_USAGE}")
-    init = values[0]
-    boundary = values[1] if len(values) == 6 else None
-    tfinal, dt, integrator, kernel = values[-4:]
-    out = {}
-    for label, text in (("TFINAL", tfinal), ("DT", dt)):
-        try:
-            out[label] = _positive(text)
-        except argparse.ArgumentTypeError as err:
-            hint = " (is BOUNDARY misplaced?)" if label == "TFINAL" and len(values) == 5 else ""
-            raise UsageError(f"{label} {err}{hint}") from None
-    if integrator not in INTEGRATOR_WORDS:
-        raise UsageError(f"INTEGRATOR must be one of {', '.join(INTEGRATOR_WORDS)}, got {integrator!r}")
-    if kernel not in KERNEL_WORDS:
-        raise UsageError(f"KERNEL must be one of {', '.join(KERNEL_WORDS)}, got {kernel!r}")
-    if out["DT"] > out["TFINAL"]:
-        raise UsageError(f"DT = {dt} is larger than TFINAL = {tfinal}")
-    return init, boundary, out["TFINAL"], out["DT"], integrator, kernel
-
-
-def run_main(argv) -> int:
-    """``python -m taisph run ...``; returns the exit code (2: input refused, nothing written)."""
-    try:
-        args = run_parser().parse_intermixed_args(argv)
-        init, boundary, t_end, dt, integrator, kernel = _positional(args.values)
-        if args.frames < 1:
-            raise UsageError("--frames must be at least 1")
-        physics = Physics(rho0=args.rho0, c0=args.c0, gamma=args.gamma, h=args.h, alpha=args.alpha,
-                          beta=args.beta, eta_factor=args.eta_factor, gravity=args.gravity,
-                          lj_strength=args.lj_strength, lj_cutoff=args.lj_cutoff, formulation=args.formulation,
-                          domain=args.domain)
-        scene, energy = load_scene(init, boundary, physics, dim=args.dim, kernel=kernel, integrator=integrator,
-                                   dt=dt, t_end=t_end, frames=args.frames, name=args.name)
-        return run_files(scene, energy, out=args.out, precision=args.precision, threads=args.threads,
-                         progress=not args.no_progress)
-    except (ValueError, KeyError, TypeError) as err:  # SeedFileError, UsageError are ValueErrors
-        print(f"taisph run: error: {err}", file=sys.stderr)
-        return 2
-
-
-def run_files(scene, energy, out=None, precision="f64", threads=None, progress=True) -> int:
-    """Simulate a scene from files and write ``OUT/fluid.dat`` and ParaView frames."""
-    from .simulation import Simulation
-
-    print(scene.describe())
-    print("  pressure column of the input: not used (pressure = Tait EOS of the density); "
-          "energy column: carried through unchanged")
-    start = time.perf_counter()
-    sim = Simulation(scene, precision=precision, threads=threads)  # may refuse: nothing written yet
-    print(f"  {sim.runtime.arch}, {sim.runtime.precision}, {sim.runtime.threads} thread(s); dt = {sim.dt:.6g} s; "
-          f"ready in {time.perf_counter() - start:.2f} s (kernel compilation included)")
-    out = Path("out") / scene.name if out is None else Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    fluid = sim.fluid
-    ids = sim.ids()[fluid]
-
-    def write_frame(s):
-        writer.write(s.time, s.positions()[fluid], s.velocities()[fluid], s.masses()[fluid], s.density()[fluid],
-                     s.pressure()[fluid], energy, index=ids)
-
-    from .simulation import SimulationError
-
-    with seedio.OutputWriter(out / "fluid.dat") as writer:
-        write_frame(sim)
-        try:
-            summary = sim.run(scene.t_end, frames=scene.frames, out=out, progress=progress, callback=write_frame)
-        except SimulationError as err:  # a guard tripped: frames so far are kept
-            print(f"taisph run: {err}", file=sys.stderr)
-            print("taisph run: the run was unstable; try a smaller DT (see the stability table in "
-                  "docs/seed.md)", file=sys.stderr)
-            return 1
-    print(f"done: {summary}; seed output {out / 'fluid.dat'} ({writer.frames} frames); "
-          f"open {out / (scene.name + '.pvd')} in ParaView")
-    problems = health(sim)
-    if problems:
-        print(f"taisph run: warning: the run was unstable ({'; '.join(problems)}); try a smaller DT "
-              "(see the stability table in docs/seed.md)", file=sys.stderr)
-        return 1
-    return 0
-
-
+# --- health of a run ---------------------------------------------------------------------------
 def health(sim, box=None, max_density_deviation: float = MAX_DENSITY_DEVIATION) -> list[str]:
     """What is wrong with a simulation's fluid state (an empty list if nothing):
     non-finite positions, velocities or densities; a density further than
@@ -491,50 +318,3 @@ def health(sim, box=None, max_density_deviation: float = MAX_DENSITY_DEVIATION) 
         if outside.any():
             problems.append(f"{int(outside.sum())} fluid particle(s) outside the box {lo.tolist()} .. {hi.tolist()}")
     return problems
-
-
-def export_main(argv) -> int:
-    """``python -m taisph export CASE --dat DIR [--dx DX] [--set NAME=VALUE] ...``."""
-    from .cli import main as cli
-
-    p = _Parser(prog="python -m taisph export", usage="python -m taisph export CASE --dat DIR [options]",
-                description="Write a built-in case as the seed's particle and boundary files, and print the "
-                            "`run` command line that simulates it exactly (also saved as DIR/run.txt).")
-    p.add_argument("case")
-    p.add_argument("--dat", type=Path, required=True, help="folder for particles.dat, boundary.dat, run.txt")
-    p.add_argument("--dx", type=float, help="particle spacing (m)")
-    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="any case parameter")
-    p.add_argument("--integrator", choices=list(INTEGRATOR_WORDS), help="time integrator")
-    p.add_argument("--kernel", choices=list(KERNEL_WORDS), help="smoothing kernel")
-    p.add_argument("--t-end", type=_positive, help="TFINAL of the command (default: the case's)")
-    p.add_argument("--dt", type=_positive, help="DT of the command (default: the case's stable step)")
-    p.add_argument("--frames", type=int, help="--frames of the command (default: the case's)")
-    p.add_argument("--out", help="--out of the command (default out/CASE_from_dat)")
-    try:
-        args = p.parse_args(argv)
-        cases = cli._cases()
-        if args.case not in cases:
-            raise ValueError(f"unknown case {args.case!r}; cases: {', '.join(cases)}")
-        func = cases[args.case]
-        params = cli._case_parameters(func)
-        kwargs = {}
-        for key in ("dx", "integrator", "kernel"):
-            value = getattr(args, key)
-            if value is not None:
-                kwargs[key] = INTEGRATOR_WORDS.get(value, value) if key == "integrator" else value
-        for item in args.set:
-            key, sep, text = item.partition("=")
-            key = key.strip().replace("-", "_")
-            if not sep or key not in params:
-                raise ValueError(f"--set {item!r}: case {args.case} has parameters {', '.join(params)}")
-            kwargs[key] = cli._parse_value(text.strip(), params[key])
-        scene = func(**kwargs)
-        argv_run = export_scene(scene, args.dat, t_end=args.t_end, dt=args.dt, frames=args.frames, out=args.out)
-    except (ValueError, KeyError, TypeError) as err:
-        print(f"taisph export: error: {err}", file=sys.stderr)
-        return 2
-    print(f"wrote {scene.n_fluid} fluid particles to {args.dat / 'particles.dat'}"
-          + (f" and {scene.n_wall} wall particles to {args.dat / 'boundary.dat'}" if scene.n_wall else ""))
-    print(f"simulate them with (also in {args.dat / 'run.txt'}):")
-    print(f"python -m taisph {shlex.join(argv_run)}")
-    return 0

@@ -1,18 +1,10 @@
-"""The work-precision study's --quick mode: it writes its files, and its numbers say
-what the documentation says (tools/accuracy_cost.py, docs/accuracy.md)."""
+"""The work-precision study's quick mode (``python tools/accuracy_cost.py --quick``, run
+here through the package function it calls, taisph.validation.accuracy_cost.run_study):
+it writes its files, and its numbers say what the documentation says (docs/accuracy.md)."""
 
 import csv
-import importlib.util
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-
-
-def _study():
-    spec = importlib.util.spec_from_file_location("accuracy_cost", ROOT / "tools" / "accuracy_cost.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from taisph.validation import accuracy_cost
 
 
 def test_quick_study(tmp_path):
@@ -23,7 +15,7 @@ def test_quick_study(tmp_path):
     resolution (the converged free-slip solution runs ahead of them, docs/accuracy.md):
     checked here is that both configurations ran and stay within the tolerance bands
     of docs/validation.md."""
-    rows = _study().main(["--quick", "--out", str(tmp_path)])
+    rows = accuracy_cost.run_study(tmp_path, quick=True)
     for name in ("accuracy_cost.csv", "accuracy_cost.md", "wp_dam_break.png", "wp_poiseuille.png"):
         assert (tmp_path / name).stat().st_size > 0, name
     assert (tmp_path / "wp_poiseuille.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph.engine import assembly as solver
+from taisph.engine import assembly as solver, kernels
 from taisph.terms import Continuity, PressureGradient
 
 
@@ -22,9 +22,9 @@ def bare_scene(dim=2):
 
 def traced_while(build):
     solver._cache.clear()  # force a fresh compilation
-    solver.TRACED.clear()
+    kernels.TRACED.clear()
     build()
-    return set(solver.TRACED)
+    return set(kernels.TRACED)
 
 
 def test_unlisted_terms_are_not_compiled():
@@ -43,7 +43,7 @@ def test_unlisted_terms_take_no_memory():
     L = bare.solver.layout
     assert L.vectors == ("position", "velocity", "acc_prev")
     assert L.scalars == ("density", "pressure", "mass", "d_density_prev", "sound_speed", "p_over_rho2")
-    lists = (2 * 8 + 4 + 4 * bare.list_capacity) if bare.solver.lists else 0  # x_ref, count, entries
+    lists = (2 * 8 + 4 + 4 * bare.state.list_capacity) if bare.solver.lists else 0  # x_ref, count, entries
     assert bare.bytes_per_particle() == 3 * (2 * 8 * 3 + 8 * 6 + 4 * 3) + 4 + lists
     euler = bare_scene()
     euler.integrator = "euler"

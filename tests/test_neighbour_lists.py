@@ -1,4 +1,4 @@
-"""Neighbour lists with a skin (taisph.grid): reused between rebuilds, yet exact.
+"""Neighbour lists with a skin (taisph.engine.neighbours): reused between rebuilds, yet exact.
 
 The lists hold every particle closer than support + skin at the last rebuild; they are
 rebuilt when some particle has moved half the skin. These tests check that the pairs
@@ -12,6 +12,7 @@ import pytest
 
 import taisph
 from taisph import Simulation
+from taisph.engine import neighbours
 from taisph.terms import Continuity
 
 from test_neighbours import assert_same_pairs
@@ -43,11 +44,11 @@ def test_list_overflow_falls_back_to_the_cells(rng, monkeypatch):
     """With room for only 4 entries every list overflows and every particle walks the
     cells of its last rebuild instead: the pairs are still exact, and a dam break
     ends bit for bit where the one with full lists ends (same sums in the same order)."""
-    monkeypatch.setattr(Simulation, "_list_capacity", lambda self: 4)
+    monkeypatch.setattr(neighbours, "list_capacity", lambda scene: 4)
     sim = Simulation(drifting_cloud(rng), max_density_error=0)
     sim.step(12, dt=2e-3)
     assert sim.list_rebuilds < sim.steps
-    assert (sim._ncount.to_numpy() == -1).mean() > 0.9  # all but isolated particles overflow
+    assert (sim.state.ncount.to_numpy() == -1).mean() > 0.9  # all but isolated particles overflow
     assert_same_pairs(sim, sim.positions())
 
     scene = taisph.cases.dam_break(dx=0.08)
@@ -57,7 +58,7 @@ def test_list_overflow_falls_back_to_the_cells(rng, monkeypatch):
     monkeypatch.undo()
     full = Simulation(scene, deterministic=True)
     full.step(60)
-    assert (full._ncount.to_numpy()[: full.n_fluid] >= 0).any()
+    assert (full.state.ncount.to_numpy()[: full.n_fluid] >= 0).any()
     np.testing.assert_array_equal(small.positions(), full.positions())
     np.testing.assert_array_equal(small.density(), full.density())
 

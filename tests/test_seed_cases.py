@@ -13,32 +13,10 @@ import pytest
 import taisph
 from taisph.cases.drop_on_incline import downslope, height_above_plane
 from taisph.geometry import inside_triangle
-
-G = 9.81
-
-
-def record(scene, t_end, frames):
-    sim = taisph.Simulation(scene)
-    snaps = []
-
-    def keep(s):
-        snaps.append(dict(t=s.time, x=s.positions(), v=s.velocities(), rho=s.density(), m=s.masses(),
-                          mat=s.materials()))
-
-    keep(sim)
-    sim.run(t_end, frames=frames, callback=keep)
-    return sim, snaps
+from taisph.validation.seed_scenes import DX_DROP, DX_TWO, DX_WEDGE, G, WEDGE, at, potential_energy, record
 
 
-def at(snaps, t):
-    return min(snaps, key=lambda s: abs(s["t"] - t))
-
-
-# --- dam break over a wedge ----------------------------------------------------------
-WEDGE = ((2.0, 0.0), (2.5, 0.5), (3.0, 0.0))  # the case's default wedge
-DX_WEDGE = 0.04
-
-
+# --- dam break over a wedge (resolutions and geometry: taisph/validation/seed_scenes.py) ----
 @pytest.fixture(scope="module")
 def wedge():
     return record(taisph.cases.dam_break_wedge(dx=DX_WEDGE), 0.9, 6)  # frames every 0.15 s
@@ -82,7 +60,6 @@ def test_wedge_flow_goes_over_the_apex(wedge):
 
 
 # --- drop on an incline ------------------------------------------------------------------
-DX_DROP = 0.02
 
 
 @pytest.fixture(scope="module")
@@ -143,7 +120,6 @@ def test_drop_3d_builds_and_falls():
 
 
 # --- two fluids ----------------------------------------------------------------------------
-DX_TWO = 0.04
 
 
 @pytest.fixture(scope="module")
@@ -152,10 +128,6 @@ def two_fluids():
     for ratio in (2.0, 0.5):  # heavy on top (Rayleigh-Taylor), and the stable control
         runs[ratio] = record(taisph.cases.two_fluids(dx=DX_TWO, density_ratio=ratio), 1.5, 3)
     return runs
-
-
-def potential_energy(s, fluid):
-    return float((s["m"][fluid] * G * s["x"][fluid, 1]).sum())
 
 
 def test_heavy_fluid_sinks_and_releases_potential_energy(two_fluids):

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import taisph
+from taisph.engine.timestep import fixed_dt
 import taisph.geometry
 from taisph import seed
 from taisph.cli import main as cli
@@ -40,7 +41,7 @@ def test_export_then_run_equals_the_case(tmp_path, capsys, case, params):
     dat, argv = export(tmp_path, capsys, case, params)
     scene = taisph.cases.CASES[case](**params)
     # the seed's command line takes a fixed DT: export writes the scene's stable step
-    sim = taisph.Simulation(scene, dt=scene.stable_dt())
+    sim = taisph.Simulation(scene, dt=fixed_dt(scene))
     t_end = 30 * sim.dt
     files = 2 if scene.n_wall else 1
     assert float(argv[2 + files]) == sim.dt  # DT printed exactly

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 import taisph
 from taisph.cli import main as cli
-from taisph.engine import assembly as solver
+from taisph import simulation
 from taisph.io import vtk
 from taisph.geometry import box_walls, lattice
 from taisph.simulation import SimulationError
@@ -91,7 +91,26 @@ def test_escaping_particles_can_be_removed_and_counted():
     sim = taisph.Simulation(free_block(), remove_escaped=True)
     summary = sim.run(1.0, frames=2)
     assert summary.removed == 36 and not sim.fluid.any()
-    assert "36 particles removed" in str(summary)
+    assert summary.fluid_mass == 0 and summary.removed_mass == pytest.approx(free_block().mass.sum(), rel=1e-12)
+    assert "36 particles left the domain" in str(summary)
+
+
+def test_open_faces_and_the_scenes_own_removal():
+    """A block falls 4.9 m in 1 s, out through the bottom of its 2 m domain: with the
+    bottom open ("-y") every particle is still simulated at the end (mass all there,
+    no guard trip); a scene that removes escaped particles removes them without being
+    asked; the simulation's control overrides the scene."""
+    sim = taisph.Simulation(free_block(open_faces="-y"))
+    summary = sim.run(1.0, frames=1)
+    y = sim.positions()[:, 1]
+    assert summary.removed == 0 and sim.fluid.all() and y.max() < -2.0
+    assert summary.fluid_mass == pytest.approx(free_block().mass.sum(), rel=1e-12)
+    summary = taisph.Simulation(free_block(remove_escaped=True)).run(1.0, frames=1)
+    assert summary.removed == 36
+    with pytest.raises(SimulationError, match="left the domain"):
+        taisph.Simulation(free_block(remove_escaped=True), remove_escaped=False).run(1.0, frames=1)
+    with pytest.raises(ValueError, match="open face '\\+w'"):
+        free_block(open_faces=("+w",)).validate()
 
 
 def test_density_guard():
@@ -124,10 +143,10 @@ def test_restart_matches_an_uninterrupted_run_bit_for_bit(tmp_path, skin):
 def test_restart_with_parallel_sort_matches_to_round_off(tmp_path, monkeypatch):
     """Parallel cell sort (atomics): the order within a cell varies, so sums are taken in
     another order; 20 steps after a restart the state agrees to round-off (1e-12 m)."""
-    monkeypatch.setattr(solver, "SERIAL_SORT_BELOW", 0)
+    monkeypatch.setattr(simulation, "SERIAL_SORT_BELOW", 0)
     scene = taisph.cases.dam_break(dx=0.08)
     a = taisph.Simulation(scene)
-    assert not a._serial_sort
+    assert not a.serial_sort
     a.step(10)
     a.save_checkpoint(tmp_path / "cp")
     b = taisph.Simulation.from_checkpoint(tmp_path / "cp")

@@ -189,10 +189,15 @@ def test_cli_sweeps_through_an_existing_scheduler(dask_cluster, tmp_path, capsys
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["nocase", "--vary", "dx=0.1"], "unknown case 'nocase'; the cases are: couette, dam_break"),
+    (["nocase", "--vary", "dx=0.1"], "unknown case 'nocase'; cases: couette, dam_break"),
     ([CASE, "--vary", "dxx=0.1"], "hydrostatic_tank has no parameter 'dxx'; allowed are case parameters: dx,"),
     ([CASE, "--vary", "dx=0.1,abc"], "dx: cannot read 'abc'"),
     ([CASE, "--vary", "precision=f16"], "precision: cannot read 'f16'"),
+    ([CASE, "--vary", "dx=0.1,-0.05"], "hydrostatic_tank: dx must be > 0, got -0.05"),  # the case's declared range
+    ([CASE, "--vary", "samples=0"], "hydrostatic_tank: samples must be an integer >= 1, got 0"),
+    ([CASE, "--vary", "dx=0.1", "--set", "alpha=abc"], "--set alpha=abc: alpha must be >= 0"),  # as CASE --set
+    ([CASE, "--vary", "dx=0.1", "--set", "alpha=-1"], "hydrostatic_tank: alpha must be >= 0, got -1.0"),
+    ([CASE, "--vary", "dx=0.1", "--bogus"], "unrecognized arguments: --bogus"),
     ([CASE, "--vary", "dt=1e-4,1e-3"], "dt: not available when each run is hydrostatic_tank's validation"),
     (["dam_break", "--vary", "dx=0.1", "--t-end", "0.1"], "t_end: dam_break's validation runs to T_end"),
     ([CASE, "--vary", "dx=0.1,0.1"], "dx: a value is given twice"),

@@ -3,276 +3,32 @@
     python tools/accuracy_cost.py                  # full study (< 30 min on 2 cores), writes docs/accuracy/
     python tools/accuracy_cost.py --quick --out /tmp/study   # CI: dam_break and poiseuille, small sizes
     python tools/accuracy_cost.py --cases poiseuille couette --out /tmp/study
-    python tools/accuracy_cost.py --scheduler tcp://host:8786   # spread over a Dask cluster
+    python tools/accuracy_cost.py --workers 2                  # two runs at a time on this machine
+    python tools/accuracy_cost.py --scheduler tcp://host:8786   # spread over a Dask cluster (docs/sweeps.md)
 
-For every validation case (``taisph.validation``) it runs a baseline configuration
-and one-factor-at-a-time variations of it (kernel, integrator, precision, wall model,
-density diffusion, ...) at several resolutions, and records for each run the error
-against the case's reference, the wall time spent stepping (kernel compilation and
-set-up excluded, reported apart), the number of steps and the fluid particle-steps
-per second. It writes
-
-    accuracy_cost.csv      one row per run
-    accuracy_cost.md       a table per case, with the observed convergence order of
-                           every configuration (least-squares slope of log error
-                           against log dx)
-    wp_<case>.png          work-precision plot: error against wall time, log-log,
-                           one line per configuration, one point per resolution
-
-Every run is a task of taisph's sweeps (:mod:`taisph.sweeps`) in a Dask worker process:
-by default one local worker, so runs go one at a time on all cores as they always did;
-``--workers N`` runs N at a time, ``--scheduler ADDRESS`` spreads them over an existing
-cluster (``docs/sweeps.md``). ``setup_s`` is the sweep's compile time: building a
-simulation until its first step is done (kernels compile once per worker process and
-configuration). Runs are grouped by precision (Taichi's precision is process-wide). Each wall time is
-one run (``--repeat N`` takes the median of N): on a shared 2-core machine timings
-vary by up to 2x, so read differences below ~30 % as noise.
+The study itself (cases, configurations, resolutions, the CSV, table and plots it
+writes; its runs are tasks of taisph's sweeps on Dask) is
+:mod:`taisph.validation.accuracy_cost`; this is its command line.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
-import json
-import math
-import os
-import platform
-import statistics
-import subprocess
 import sys
-import time
 from pathlib import Path
-
-import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:  # run from a source checkout without installing
     sys.path.insert(0, str(ROOT))
 
-import taisph  # noqa: E402
-
-F64, F32 = "f64", "f32"
-
-# Per case: the resolutions (dx), fixed run settings, the baseline and the variations.
-# A variation is (label, parameters changed from the baseline, precision).
-STUDY = {
-    "dam_break": dict(
-        levels=[0.1, 0.05, 0.025], quick=[0.1, 0.05], fixed=dict(T_end=3.1),
-        base=dict(walls="lj"),
-        variants=[
-            ("base: LJ walls, spline, pc, f64", {}, F64),
-            ("dummy walls (free slip)", dict(walls="dummy"), F64),
-            ("dummy walls + wall friction", dict(walls="dummy", wall_friction=True), F64),
-            ("delta-SPH 0.1", dict(delta=0.1), F64),
-            ("Wendland C2", dict(kernel="wendland"), F64),
-            ("Gaussian", dict(kernel="gaussian"), F64),
-            ("eulermid, dt/4", dict(integrator="eulermid", dt_factor=0.25), F64),
-            ("f32", {}, F32),
-        ],
-    ),
-    "hydrostatic_tank": dict(
-        levels=[0.05, 0.025, 0.0125], quick=[0.1, 0.05], fixed=dict(t_end=1.0),
-        base=dict(walls="dummy", delta=None),
-        variants=[
-            ("base: dummy walls, spline, pc, f64", {}, F64),
-            ("Lennard-Jones walls", dict(walls="lj"), F64),
-            ("delta-SPH 0.1", dict(delta=0.1), F64),
-            ("Wendland C2", dict(kernel="wendland"), F64),
-            ("Gaussian", dict(kernel="gaussian"), F64),
-            ("eulermid, dt/4", dict(integrator="eulermid", dt_factor=0.25), F64),
-            ("f32", {}, F32),
-        ],
-    ),
-    "poiseuille": dict(
-        levels=[1e-4, 5e-5, 2.5e-5], quick=[1e-4, 5e-5, 2.5e-5], fixed={},
-        base={},
-        variants=[
-            ("base: spline, pc, f64", {}, F64),
-            ("delta-SPH 0.1", dict(delta=0.1), F64),
-            ("Wendland C2", dict(kernel="wendland"), F64),
-            ("Gaussian", dict(kernel="gaussian"), F64),
-            ("eulermid", dict(integrator="eulermid"), F64),
-            ("f32", {}, F32),
-        ],
-    ),
-    "couette": dict(
-        levels=[1e-4, 5e-5, 2.5e-5], quick=[1e-4, 5e-5], fixed={},
-        base={},
-        variants=[
-            ("base: spline, pc, f64", {}, F64),
-            ("delta-SPH 0.1", dict(delta=0.1), F64),
-            ("Wendland C2", dict(kernel="wendland"), F64),
-            ("Gaussian", dict(kernel="gaussian"), F64),
-            ("eulermid", dict(integrator="eulermid"), F64),
-            ("f32", {}, F32),
-        ],
-    ),
-    "taylor_green": dict(
-        levels=[1 / 20, 1 / 32, 1 / 50], quick=[1 / 16, 1 / 24], fixed=dict(t_end=2.0),
-        base=dict(shifting=True, delta=0.1),
-        variants=[
-            ("base: shifting, delta 0.1, spline, pc, f64", {}, F64),
-            ("no delta-SPH", dict(delta=None), F64),
-            ("no shifting", dict(shifting=False), F64),
-            ("Wendland C2", dict(kernel="wendland"), F64),
-            ("Gaussian", dict(kernel="gaussian"), F64),
-            ("eulermid, dt/2", dict(integrator="eulermid", dt_factor=0.5), F64),
-            ("f32", {}, F32),
-        ],
-    ),
-    "elliptical_drop": dict(
-        levels=[0.1, 0.05, 0.025], quick=[0.1, 0.05], fixed={},
-        base={},
-        variants=[
-            ("base: alpha 0.1, spline, pc, f64", {}, F64),
-            ("delta-SPH 0.1", dict(delta=0.1), F64),
-            ("XSPH 0.5", dict(xsph=0.5), F64),
-            ("Wendland C2", dict(kernel="wendland"), F64),
-            ("Gaussian", dict(kernel="gaussian"), F64),
-            ("eulermid, dt/2", dict(integrator="eulermid", dt_factor=0.5), F64),
-            ("f32", {}, F32),
-        ],
-    ),
-}
-
-QUICK_CASES = ("dam_break", "poiseuille")
-QUICK_VARIANTS = 2  # the baseline and the first variation
-
-FIELDS = ["case", "config", "precision", "dx", "fluid_particles", "particles", "steps", "dt", "wall_s", "setup_s",
-          "particle_steps_per_s", "error", "error_name", "diverged", "params", "metrics", "failure"]
-
-
-def plan(cases, quick):
-    runs = []
-    for case in cases:
-        spec = STUDY[case]
-        variants = spec["variants"][:QUICK_VARIANTS] if quick else spec["variants"]
-        levels = spec["quick"] if quick else spec["levels"]
-        for label, change, precision in variants:
-            params = {**spec["fixed"], **spec["base"], **change}
-            params = {k: v for k, v in params.items() if v is not None or k in ("delta",)}
-            for dx in levels:
-                runs.append(dict(case=case, config=label, precision=precision, dx=dx, params={**params, "dx": dx}))
-    # Taichi's precision is process-wide: all f64 runs first, then all f32 runs
-    runs.sort(key=lambda r: r["precision"] != F64)
-    return runs
-
-
-def tasks_of(runs, repeat):
-    """The study's runs as sweep tasks (validation runs), `repeat` tasks per run."""
-    from taisph.sweeps import Task
-
-    return [Task(run["case"], f"{run['case']} {run['config']} dx={run['dx']:g} #{k}", dict(run["params"]),
-                 {"precision": run["precision"]}, validate=True, tag=(index, k))
-            for index, run in enumerate(runs) for k in range(repeat)]
-
-
-def row_of(run, results):
-    """The table row of `run` from its repeats' results: the median wall time."""
-    out = results[-1]
-    failed = [r for r in results if r["status"] != "ok" and not r["diverged"]]
-    if failed:
-        return dict(case=run["case"], config=run["config"], precision=run["precision"], dx=run["dx"],
-                    fluid_particles=0, particles=0, steps=0, dt=float("nan"), wall_s=float("nan"),
-                    setup_s=float("nan"), particle_steps_per_s=float("nan"), error=float("nan"), error_name="",
-                    diverged=False, params=json.dumps(run["params"], sort_keys=True), metrics="{}",
-                    failure=failed[0]["failure"])
-    wall = statistics.median(r["wall_s"] for r in results)
-    return dict(
-        case=run["case"], config=run["config"], precision=out["precision"], dx=run["dx"],
-        fluid_particles=out["fluid_particles"], particles=out["particles"], steps=out["steps"], dt=out["dt"],
-        wall_s=wall, setup_s=out["compile_s"],
-        particle_steps_per_s=out["fluid_particles"] * out["steps"] / wall if wall > 0 else float("nan"),
-        error=out["error"], error_name=out["error_name"], diverged=out["diverged"],
-        params=json.dumps(run["params"], sort_keys=True), metrics=json.dumps(out["metrics"], sort_keys=True),
-        failure="",
-    )
-
-
-def observed_order(rows):
-    """Least-squares slope of log(error) against log(dx) over finite, positive errors."""
-    pts = [(r["dx"], r["error"]) for r in rows if math.isfinite(r["error"]) and r["error"] > 0]
-    if len(pts) < 2:
-        return float("nan")
-    x = np.log([p[0] for p in pts])
-    y = np.log([p[1] for p in pts])
-    return float(np.polyfit(x, y, 1)[0])
-
-
-def fmt(v, digits=3):
-    if isinstance(v, str):
-        return v
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return "diverged" if v == float("inf") else "–"
-    if isinstance(v, int):
-        return str(v)
-    return f"{v:.{digits}g}"
-
-
-def write_markdown(path, rows, header):
-    lines = [header, ""]
-    for case in dict.fromkeys(r["case"] for r in rows):
-        cr = [r for r in rows if r["case"] == case]
-        lines += [f"## {case}", "", f"Error: {next((r['error_name'] for r in cr if r['error_name']), '')}.", ""]
-        lines += ["| configuration | dx | fluid | steps | wall s | M particle-steps/s | error | order |",
-                  "|---|---:|---:|---:|---:|---:|---:|---:|"]
-        for config in dict.fromkeys(r["config"] for r in cr):
-            rr = [r for r in cr if r["config"] == config]
-            p = observed_order(rr)
-            for k, r in enumerate(rr):
-                err = "diverged" if r["diverged"] else ("failed" if r["failure"] else fmt(r["error"]))
-                lines.append(f"| {config if k == 0 else ''} | {r['dx']:.4g} | {r['fluid_particles']} | {r['steps']} | "
-                             f"{fmt(r['wall_s'])} | {fmt(r['particle_steps_per_s'] / 1e6)} | {err} | "
-                             f"{fmt(p, 2) if k == 0 else ''} |")
-        lines.append("")
-    path.write_text("\n".join(lines))
-
-
-def write_plots(folder, rows):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    written = []
-    for case in dict.fromkeys(r["case"] for r in rows):
-        cr = [r for r in rows if r["case"] == case]
-        fig, ax = plt.subplots(figsize=(6.4, 4.6))
-        markers = "osD^v<>ph*"
-        for k, config in enumerate(dict.fromkeys(r["config"] for r in cr)):
-            rr = [r for r in cr if r["config"] == config and math.isfinite(r["error"]) and r["error"] > 0]
-            if not rr:
-                continue
-            ax.loglog([r["wall_s"] for r in rr], [r["error"] for r in rr], marker=markers[k % len(markers)],
-                      label=f"{config} (p = {fmt(observed_order(rr), 2)})")
-            for r in rr:
-                ax.annotate(f"{r['dx']:.3g}", (r["wall_s"], r["error"]), fontsize=6, alpha=0.6,
-                            xytext=(2, 2), textcoords="offset points")
-        ax.set_xlabel("wall time of the run, s (stepping only)")
-        ax.set_ylabel(cr[0]["error_name"] if cr[0]["error_name"] else "error")
-        ax.set_title(f"{case}: error vs cost (labels: dx; p: observed order in dx)", fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6.5, loc="best")
-        fig.tight_layout()
-        path = folder / f"wp_{case}.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
-    return written
-
-
-def git_commit():
-    try:
-        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                              text=True, check=True).stdout.strip()
-    except Exception:
-        return "unknown"
+from taisph.validation import accuracy_cost  # noqa: E402
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true", help="CI mode: dam_break and poiseuille, 2 configurations, small sizes")
-    p.add_argument("--cases", nargs="+", choices=list(STUDY), help="cases to run (default: all; --quick: dam_break, poiseuille)")
+    p.add_argument("--cases", nargs="+", choices=list(accuracy_cost.STUDY),
+                   help="cases to run (default: all; --quick: dam_break, poiseuille)")
     p.add_argument("--out", default=str(ROOT / "docs" / "accuracy"), help="output folder (default docs/accuracy)")
     p.add_argument("--repeat", type=int, default=1, help="runs per point; the median wall time is reported")
     p.add_argument("--threads", type=int, default=None,
@@ -283,67 +39,10 @@ def main(argv=None):
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on an existing Dask cluster (dask scheduler / dask worker), e.g. tcp://host:8786")
     args = p.parse_args(argv)
-    from taisph.sweeps.cluster import connect, run_tasks
-    cases = args.cases or (list(QUICK_CASES) if args.quick else list(STUDY))
-    folder = Path(args.out)
-    folder.mkdir(parents=True, exist_ok=True)
-    runs = plan(cases, args.quick)
+
     command = "python tools/accuracy_cost.py" + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip()
-    print(f"{len(runs)} runs: {', '.join(cases)}", flush=True)
-    load_start = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    start = time.perf_counter()
-    rows, results, threads = [], {}, set()
-    tasks = tasks_of(runs, args.repeat)
-
-    def finished(task, result):  # a run's last repeat finishing makes its row
-        index, _ = task.tag
-        results.setdefault(index, []).append(result)
-        threads.add(result["threads"])
-        if len(results[index]) < args.repeat:
-            return
-        run = runs[index]
-        row = row_of(run, results[index])
-        rows.append(row)
-        print(f"[{len(rows)}/{len(runs)}] {row['case']:16s} {row['config']:44s} dx={row['dx']:<8.4g} "
-              f"error={fmt(row['error'])} wall={fmt(row['wall_s'])} s (compile {fmt(row['setup_s'])} s) "
-              f"{row['failure']}", flush=True)
-
-    with connect(workers=args.workers, scheduler=args.scheduler, tasks=len(tasks)) as (client, default_threads):
-        run_tasks(tasks, client, args.threads or default_threads, on_result=finished)
-    total = time.perf_counter() - start
-    load_end = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    # table order: per case, configurations and resolutions as listed in STUDY (the f32 runs
-    # were only moved to the end to run them together)
-    order = {}
-    for case in cases:
-        spec = STUDY[case]
-        for label, _, _ in (spec["variants"][:QUICK_VARIANTS] if args.quick else spec["variants"]):
-            for dx in (spec["quick"] if args.quick else spec["levels"]):
-                order[(case, label, dx)] = len(order)
-    rows.sort(key=lambda r: order[(r["case"], r["config"], r["dx"])])
-
-    with open(folder / "accuracy_cost.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=FIELDS)
-        w.writeheader()
-        for r in rows:
-            w.writerow(r)
-    import taichi as ti
-
-    taichi_version = ".".join(map(str, ti.__version__))
-    header = (f"# Accuracy and cost\n\nMade by `{command}` in {total / 60:.1f} min "
-              f"(taisph {taisph.__version__} at commit {git_commit()}, taichi {taichi_version}, "
-              f"Python {platform.python_version()}, {os.cpu_count()} cores, "
-              f"{'/'.join(map(str, sorted(threads)))} thread(s) per run, "
-              f"{args.workers if not args.scheduler else 'cluster'} run(s) at a time). Wall time: stepping only, "
-              f"{'median of %d runs' % args.repeat if args.repeat > 1 else 'one run'} per point, on a shared machine "
-              f"(1-minute load average {load_start:.1f} at the start, {load_end:.1f} at the end, on "
-              f"{os.cpu_count()} cores: other jobs shared the machine; differences below ~30 % are noise). "
-              f"Order: least-squares slope of log(error) against log(dx).")
-    write_markdown(folder / "accuracy_cost.md", rows, header)
-    plots = write_plots(folder, rows)
-    print(f"done in {total / 60:.1f} min: {folder / 'accuracy_cost.csv'}, {folder / 'accuracy_cost.md'}, "
-          f"{len(plots)} plots", flush=True)
-    return rows
+    return accuracy_cost.run_study(args.out, cases=args.cases, quick=args.quick, repeat=args.repeat, command=command,
+                                   workers=args.workers, scheduler=args.scheduler, threads=args.threads)
 
 
 if __name__ == "__main__":

@@ -6,10 +6,10 @@ simulated time, resolution and artificial conductivity, and against wall time.
     python tools/accuracy_gas.py --choices  # docs/gas_choices.md: one Sod run per set-up choice
 
 Sod shock tube (cases/sod.py, Toro test 1, to t = 0.2): error = L1 of the density, the
-mean over the tube's particles of |rho - rho_exact(x)| against taisph.riemann (u, p, e
+mean over the tube's particles of |rho - rho_exact(x)| against taisph.validation.references.riemann (u, p, e
 in more columns). Sedov blast (cases/sedov.py, 2D, to t = 0.1): error = |R / R_exact - 1|,
 R the radius where the ring-averaged density falls half way from its peak to rho0,
-against taisph.sedov_taylor.
+against taisph.validation.references.sedov_taylor.
 
 Each configuration runs ``repeat`` times, with and without conductivity alternating;
 wall times are medians (the machine is shared and its timings vary up to 2x) and

@@ -1,6 +1,7 @@
 """Print the measured quantities of the seed's three scenes that tests/test_seed_cases.py
-asserts and docs/seed.md quotes, at the tests' resolutions, and the largest difference
-between running a case and running its exported seed files (tests/test_seed_cli.py).
+asserts and docs/seed.md quotes, at the tests' resolutions (both take them from
+taisph/validation/seed_scenes.py), and the largest difference between running a case and
+running its exported seed files (tests/test_seed_cli.py).
 
     python tools/seed_measure.py            # about a minute on 2 cores
     python tools/seed_measure.py --rt       # Rayleigh-Taylor growth vs linear theory (about 3 min)
@@ -13,18 +14,13 @@ import shlex
 import sys
 import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-
-import taisph  # noqa: E402
-from taisph.cases.drop_on_incline import downslope, height_above_plane  # noqa: E402
-from taisph.geometry import inside_triangle  # noqa: E402
-from test_seed_cases import DX_DROP, DX_TWO, DX_WEDGE, WEDGE, at, potential_energy, record  # noqa: E402
-
-G = 9.81
+import taisph
+from taisph.cases.drop_on_incline import downslope, height_above_plane
+from taisph.geometry import inside_triangle
+from taisph.validation.seed_scenes import DX_DROP, DX_TWO, DX_WEDGE, G, WEDGE, at, potential_energy, record
 
 
 def wedge():

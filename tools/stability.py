@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 import taisph
+from taisph.engine.timestep import fixed_dt
 from taisph.seed import health
 
 SCENES = {
@@ -66,7 +67,7 @@ def trial(name, kwargs, t_end, integrator, kernel, dt):
             break
     result = dict(scene=name, integrator=integrator, kernel=kernel, dt=dt, stable=not problems,
                   t_reached=sim.time, max_density_deviation=worst, problems=problems, steps=sim.steps,
-                  wall_s=round(time.perf_counter() - start, 2), default_dt=scene.stable_dt())
+                  wall_s=round(time.perf_counter() - start, 2), default_dt=fixed_dt(scene))
     sim.close()
     return result
 

@@ -85,7 +85,7 @@ def main(argv=None):
         f"Made by `{command}` in {total / 60:.1f} min (taisph {taisph.__version__} at commit {commit}, "
         f"Python {platform.python_version()}, {os.cpu_count()} cores, 1-minute load average {load0:.1f} at the "
         f"start and {os.getloadavg()[0]:.1f} at the end: the machine was shared). Errors as defined in "
-        "`taisph/validation.py`; wall s: stepping only, one run.",
+        "`taisph/validation/runs.py`; wall s: stepping only, one run.",
         "",
         "| case | parameters | error | metrics | fluid | steps | wall s |",
         "|---|---|---:|---|---:|---:|---:|",

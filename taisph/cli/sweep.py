@@ -7,6 +7,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from .parser import Parser
+
 EPILOG = """\
 Each combination of the --vary values is one run in a Dask worker process: by default a
 LocalCluster of --workers processes started here (one per core, each run using its share
@@ -31,8 +33,10 @@ examples:
   python -m taisph sweep poiseuille --vary dx=1e-4,5e-5 --scheduler tcp://10.0.0.5:8786 --out sweeps/p"""
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m taisph sweep", description=__doc__.splitlines()[0][:-1] + ".",
+def build_parser() -> Parser:
+    """The sweep's options (a :class:`taisph.cli.parser.Parser`: bad usage raises
+    UsageError, printed by :func:`main` with exit code 2)."""
+    parser = Parser(prog="python -m taisph sweep", description=__doc__.splitlines()[0][:-1] + ".",
                                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("case", help="case name (python -m taisph list)")
     parser.add_argument("--vary", action="append", default=[], metavar="NAME=v1,v2,...",
@@ -66,7 +70,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def fixed_values(args) -> dict:
-    """The values every run shares, as text (parsed by the sweep against the case)."""
+    """The values every run shares: the options as text (parsed by the sweep against
+    the case), ``--set`` of a case parameter parsed as the case command parses it
+    (:func:`taisph.cli.cases.parse_setting`), ``--set`` of a run setting or validation
+    keyword as text."""
+    from . import cases
+
     fixed = {}
     for option in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "precision", "neighbour_skin",
                    "max_density_error", "threads"):
@@ -75,6 +84,7 @@ def fixed_values(args) -> dict:
     for flag in ("deterministic", "remove_escaped"):
         if getattr(args, flag):
             fixed[flag] = True
+    parameters = cases.parameters(args.case)
     for item in args.set:
         name, sep, value = item.partition("=")
         name = name.strip().replace("-", "_")
@@ -82,16 +92,16 @@ def fixed_values(args) -> dict:
             raise ValueError(f"--set expects NAME=VALUE, got {item!r}")
         if name in fixed:
             raise ValueError(f"{name} is given twice")
-        fixed[name] = value.strip()
+        fixed[name] = cases.parse_setting(args.case, item)[1] if name in parameters else value.strip()
     return fixed
 
 
 def main(argv) -> int:
-    args = build_parser().parse_args(argv)
     from ..sweeps import SweepError, plan, sweep
 
-    before = _table_runs(args.out, args.retry_failed)
     try:
+        args = build_parser().parse_args(argv)
+        before = _table_runs(args.out, args.retry_failed)
         vary = plan.parse_vary(args.vary)
         fixed = fixed_values(args)
         rows = sweep(args.case, vary, out=args.out, workers=args.workers, scheduler=args.scheduler,

@@ -11,23 +11,37 @@ from pathlib import Path
 
 import numpy as np
 
-from . import timestep as stepping
+from . import guards
+from . import status as st
 from .layout import FLUID
 
 
+class SimulationError(RuntimeError):
+    """A guard tripped (non-finite state, density error, particle out of the domain).
+
+    ``str(err)`` explains what happened, where, the likely cause and a remedy;
+    ``err.report`` holds the same as data, ``err.files`` the frames written."""
+
+    def __init__(self, message, report, files=()):
+        super().__init__(message)
+        self.report = report
+        self.files = list(files)
+
+
 def collect(sim) -> dict:
-    flags = sim._flags.to_numpy()
-    status = sim._status.to_numpy()
-    count = int(flags[stepping.COUNT])
-    records = flags[stepping.RECORDS : stepping.RECORDS + 2 * min(count, stepping.MAX_RECORDED)].reshape(-1, 2)
-    vec, sca, ints = sim._to_numpy(sim._C)
+    state = sim.state
+    flags = state.flags.to_numpy()
+    status = state.status.to_numpy()
+    count = int(flags[st.COUNT])
+    records = guards.recorded(flags)
+    vec, sca, ints = state.to_numpy()
     q = sim.solver.layout.q
     ids = records[:, 0]
     particles = []
     for pid, code in records:
         particles.append(dict(
             id=int(pid),
-            problems=[name for bit, name in stepping.CODE_NAMES.items() if code & bit],
+            problems=[name for bit, name in st.CODE_NAMES.items() if code & bit],
             position=vec[q.position][pid].tolist(),
             velocity=vec[q.velocity][pid].tolist(),
             density=float(sca[q.density][pid]),
@@ -37,19 +51,19 @@ def collect(sim) -> dict:
     with np.errstate(invalid="ignore"):
         density_error = np.nanmax(np.abs(sca[q.density][fluid] / rho0[ints[q.material][fluid]] - 1.0), initial=0.0)
     return dict(
-        codes=[name for bit, name in stepping.CODE_NAMES.items() if int(flags[stepping.CODES]) & bit],
+        codes=[name for bit, name in st.CODE_NAMES.items() if int(flags[st.CODES]) & bit],
         count=count,
         particles=particles,
         ids=ids,
-        step=int(status[stepping.STEPS]),
-        time=float(status[stepping.TIME]),
-        dt=float(status[stepping.DT]),
+        step=int(status[st.STEPS]),
+        time=float(status[st.TIME]),
+        dt=float(status[st.DT]),
         dt_fixed=sim.controls.dt,
         # the limit before things went wrong (a blow-up drives it to zero)
-        dt_stable_min=float(getattr(sim, "_good_dt_stable", status[stepping.DT_STABLE_MIN])),
-        dt_stable=float(status[stepping.DT_STABLE]),
-        last_good_time=getattr(sim, "_good_time", 0.0),
-        last_good_step=getattr(sim, "_good_steps", 0),
+        dt_stable_min=float(state.good_dt_stable if state.good is not None else status[st.DT_STABLE_MIN]),
+        dt_stable=float(status[st.DT_STABLE]),
+        last_good_time=state.good_time,
+        last_good_step=state.good_steps,
         integrator=sim.scene.integrator,
         max_density_error=sim.controls.max_density_error,
         density_error=float(density_error),
@@ -120,13 +134,13 @@ def write_evidence(sim, report, folder) -> list:
     folder.mkdir(parents=True, exist_ok=True)
     q = sim.solver.layout.q
     files = []
-    if sim._good is not None:
-        vec, sca, ints = sim._to_numpy(sim._good)
+    if sim.state.good is not None:
+        vec, sca, ints = sim.state.to_numpy(sim.state.good)
         fluid = ints[q.kind] == FLUID
         path = folder / f"{sim.scene.name}_last_good.vtu"
         write_vtu(path, vec[q.position][fluid], _point_arrays(vec, sca, ints, q, fluid))
         files.append(path)
-    vec, sca, ints = sim._to_numpy(sim._C)
+    vec, sca, ints = sim.state.to_numpy()
     bad = np.zeros(len(ints[q.id]), bool)
     bad[report["ids"]] = True
     if bad.any():

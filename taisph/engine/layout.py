@@ -57,9 +57,6 @@ class Layout:
                 return kind
         raise KeyError(name)
 
-    def key(self):
-        return (self.vectors, self.scalars, self.integers)
-
 
 def _unique(names):
     seen = []

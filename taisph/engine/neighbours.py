@@ -1,8 +1,9 @@
 """Uniform-grid neighbour search by counting sort, with optional periodic axes.
 
 The grid covers the scene's domain with cells at least as large as the kernel support
-radius, numbered x-fastest: ``c = cx + nx (cy + ny cz)``. Every step
-(:mod:`taisph.solver`):
+radius, numbered x-fastest: ``c = cx + nx (cy + ny cz)``. Every step, in the first
+kernel of the step (:mod:`taisph.engine.kernels`, functions :meth:`Grid.count`,
+:meth:`Grid.scan`, :meth:`Grid.slot`):
 
 1. each particle's cell index is computed, and the particles of each cell counted;
 2. an exclusive prefix sum over the cells gives each cell's first slot (serial: a
@@ -49,17 +50,8 @@ import math
 import numpy as np
 import taichi as ti
 
-from . import timestep as stepping
+from . import status as st
 from .layout import WALL
-
-
-def grid_shape(lo, hi, cell) -> tuple:
-    """Number of cells per axis covering the box [lo, hi] with cells of edge `cell`
-    (a number, or one per axis)."""
-    lo = np.asarray(lo, dtype=float)
-    hi = np.asarray(hi, dtype=float)
-    cell = np.broadcast_to(np.asarray(cell, dtype=float), lo.shape)
-    return tuple(max(1, int(math.ceil((b - a) / c - 1e-9))) for a, b, c in zip(lo, hi, cell))
 
 
 def layout_grid(domain, periodic, support, positions):
@@ -90,28 +82,92 @@ def layout_grid(domain, periodic, support, positions):
     return lo, cell, tuple(shape)
 
 
+PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
+    ("grid_lo", "dim"),  # the grid's origin
+    ("grid_inv_cell", "dim"),  # 1 / cell edge
+    ("period", "dim"),  # period of each periodic axis (0 otherwise)
+    ("list_skin", 1),  # neighbour list skin (length); the lists hold pairs closer than
+    ("list_reach2", 1),  # (support + skin)^2
+    ("list_wall_reach2", 1),  # (wall range + skin)^2, if no term needs walls farther
+)
+
+# Grids with more cells than this per particle are refused: the domain is too large
+# for the smoothing length (a typo in a unit, usually) and memory would explode.
+MAX_CELLS_PER_PARTICLE = 64
+
+
+def list_reach(scene) -> float:
+    """Cell edge and list range: the support radius plus the skin (a fraction of it);
+    a periodic axis needs 3 cells, which may shorten the skin."""
+    support = scene.support_radius
+    reach = support * (1.0 + scene.neighbour_skin)
+    lo, hi = (np.asarray(a, float) for a in scene.domain)
+    for d in range(scene.dim):
+        if scene.periodic[d]:
+            reach = max(support, min(reach, (hi[d] - lo[d]) / 3.0))
+    return reach
+
+
+def list_capacity(scene) -> int:
+    """Entries per particle's neighbour list: 1.5 times the particles within
+    support + skin of a particle in a lattice of spacing dx, plus a margin.
+    A particle with more (a compressed spot, a wall of closer particles) walks
+    the cells instead; its neighbours are still all found."""
+    reach = scene.support_radius * (1.0 + scene.neighbour_skin)
+    ball = {1: 2 * reach, 2: math.pi * reach**2, 3: 4 / 3 * math.pi * reach**3}[scene.dim]
+    return int(min(scene.n, math.ceil(1.5 * ball / scene.dx**scene.dim) + 8))
+
+
+def wall_range(scene) -> float:
+    """How far any term looks at wall neighbours, when none needs the full support
+    (e.g. the Lennard-Jones cut-off); the support radius otherwise."""
+    reach = 0.0
+    for t in scene.terms:
+        r = t.wall_reach()
+        if r == "support":
+            return scene.support_radius
+        if r is not None:
+            reach = max(reach, float(t.values[r]))
+    return reach
+
+
+def parameter_values(scene, grid_lo, grid_cell) -> dict:
+    """Values of :data:`PARAMS` for `scene` and its grid."""
+    lo, hi = scene.domain
+    skin = list_reach(scene) - scene.support_radius
+    return dict(
+        grid_lo=grid_lo,
+        grid_inv_cell=1.0 / np.asarray(grid_cell),
+        period=np.where(scene.periodic, hi - lo, 0.0),
+        list_skin=skin,
+        list_reach2=(scene.support_radius + skin) ** 2,
+        list_wall_reach2=(wall_range(scene) + skin) ** 2,
+    )
+
+
 @ti.data_oriented
 class Grid:
-    """Cell arithmetic inside kernels.
+    """Cell arithmetic, counting sort and neighbour walks inside kernels.
 
     ``s.params[p_lo + d]`` is the grid origin, ``s.params[p_inv_cell + d]`` the inverse
     cell edge and ``s.params[p_period + d]`` the period of axis d; ``s.gshape`` holds
-    ``(n0, n1, n2, n_cells)``. ``periodic`` (a tuple of bools) is compile-time.
+    ``(n0, n1, n2, n_cells)``. ``periodic`` (a tuple of bools) and ``lists`` are
+    compile-time; ``kind_row`` (the row of the particle kind) is given when the lists
+    keep walls only within the range the terms need them (``list_wall_reach2``).
     """
 
-    def __init__(self, dim, real, p_lo, p_inv_cell, p_period, periodic, lists=False, p_skin=-1, p_reach2=-1,
-                 short_walls=None):
+    def __init__(self, dim, real, param_rows, periodic, lists=False, kind_row=None):
         self.lists = bool(lists)  # compile time: neighbour lists with a skin
-        # (kind row, wall reach parameter row): lists keep walls only within that reach
-        self.short_walls = short_walls
-        self.has_short_walls = short_walls is not None
-        self.p_skin = p_skin
-        self.p_reach2 = p_reach2
+        self.has_short_walls = kind_row is not None
+        self.kind_row = kind_row
+        self.p_skin = param_rows["list_skin"]
+        self.p_reach2 = param_rows["list_reach2"]
+        self.p_wall_reach2 = param_rows["list_wall_reach2"]
         self.dim = dim
         self.real = real
-        self.p_lo = p_lo
-        self.p_inv_cell = p_inv_cell
-        self.p_period = p_period
+        self.p_lo = param_rows["grid_lo"]
+        self.p_inv_cell = param_rows["grid_inv_cell"]
+        self.p_period = param_rows["period"]
         self.periodic = tuple(bool(p) for p in periodic)
         self.any_periodic = any(self.periodic)
         # slot ranges per particle: merged rows, or single cells if x wraps around
@@ -195,14 +251,48 @@ class Grid:
                 end = s.cell_start[last + 1]
         return begin, end
 
+    # --- counting sort (the first kernel of a step) ----------------------------------
+    @ti.func
+    def count(self, s: ti.template(), i, x):
+        """Step 1: particle i (at x) is in cell c; count it."""
+        c = self.linear(s, self.coords(s, x))
+        s.cell_of[i] = c
+        ti.atomic_add(s.cell_count[c], 1)
+
+    @ti.func
+    def scan(self, s: ti.template()):
+        """Step 2 (serial): each cell's first slot, an exclusive prefix sum of the counts
+        (on a rebuild; between rebuilds the cells of the last rebuild are kept, as the
+        lists' fallback). Resets the counts for the next step."""
+        if self.decide_rebuild(s):
+            running = 0
+            for c in range(s.gshape[3]):
+                s.cell_start[c] = running
+                s.cell_fill[c] = running
+                running += s.cell_count[c]
+                s.cell_count[c] = 0
+            s.cell_start[s.gshape[3]] = running
+        else:
+            for c in range(s.gshape[3]):
+                s.cell_count[c] = 0
+
+    @ti.func
+    def slot(self, s: ti.template(), i, rebuild):
+        """Step 3: the cell-sorted slot particle i's state is scattered to (between list
+        rebuilds the order stays that of the last rebuild)."""
+        slot = i
+        if rebuild:
+            slot = ti.atomic_add(s.cell_fill[s.cell_of[i]], 1)
+        return slot
+
     @ti.func
     def note_displacement(self, s: ti.template(), i, x):
         """Track the largest displacement of particle i (now at x, in the memory order
         of the last rebuild) from where the lists were built."""
         if ti.static(self.lists):
             d2 = ti.cast(self.separation(s, x, s.x_ref[i]).norm_sqr(), ti.f64)
-            if d2 > s.status[stepping.MAX_DISP2]:  # read first: rarely grows
-                ti.atomic_max(s.status[stepping.MAX_DISP2], d2)
+            if d2 > s.status[st.MAX_DISP2]:  # read first: rarely grows
+                ti.atomic_max(s.status[st.MAX_DISP2], d2)
 
     @ti.func
     def decide_rebuild(self, s: ti.template()) -> bool:
@@ -210,18 +300,18 @@ class Grid:
         rebuild = True
         if ti.static(self.lists):
             skin = ti.cast(s.params[self.p_skin], ti.f64)
-            rebuild = s.status[stepping.FORCE_REBUILD] > 0.0 or 4.0 * s.status[stepping.MAX_DISP2] >= skin * skin
-            s.status[stepping.REBUILD] = 1.0 if rebuild else 0.0
-            s.status[stepping.FORCE_REBUILD] = 0.0
+            rebuild = s.status[st.FORCE_REBUILD] > 0.0 or 4.0 * s.status[st.MAX_DISP2] >= skin * skin
+            s.status[st.REBUILD] = 1.0 if rebuild else 0.0
+            s.status[st.FORCE_REBUILD] = 0.0
             if rebuild:
-                s.status[stepping.REBUILDS] += 1.0
+                s.status[st.REBUILDS] += 1.0
         return rebuild
 
     @ti.func
     def rebuilding(self, s: ti.template()) -> bool:
         rebuild = True
         if ti.static(self.lists):
-            rebuild = s.status[stepping.REBUILD] > 0.0
+            rebuild = s.status[st.REBUILD] > 0.0
         return rebuild
 
     @ti.func
@@ -245,7 +335,7 @@ class Grid:
                     if r2 < support2 and j != i:
                         visitor.visit(s, i, j, rij, r2, acc)
         else:
-            build = s.status[stepping.REBUILD] > 0.0
+            build = s.status[st.REBUILD] > 0.0
             count = s.ncount[i]
             from_list = count >= 0 and not build
             reach2 = s.params[self.p_reach2]
@@ -267,8 +357,8 @@ class Grid:
                     r2 = rij.norm_sqr()
                     keep = r2 < reach2 and j != i
                     if ti.static(self.has_short_walls):
-                        if s.Si[self.short_walls[0], j] == WALL:
-                            keep = keep and r2 < s.params[self.short_walls[1]]
+                        if s.Si[self.kind_row, j] == WALL:
+                            keep = keep and r2 < s.params[self.p_wall_reach2]
                     if build and keep:
                         if stored < capacity:
                             s.nlist[i, stored] = j

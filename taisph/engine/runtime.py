@@ -4,7 +4,7 @@
 re-initialising destroys every Taichi array and compiled kernel. taisph therefore
 initialises Taichi lazily, the first time a simulation needs it, and afterwards only
 checks that later requests agree. Simulations of any size and parameters share the
-runtime and the compiled kernels (see :mod:`taisph.solver`).
+runtime and the compiled kernels (see :mod:`taisph.engine.assembly`).
 
 A different precision or backend can be selected once no simulation is alive
 (:func:`init` then resets Taichi and drops the kernel cache); asking for it while a
@@ -53,7 +53,8 @@ _on_reset = []  # callbacks run when Taichi is reset (e.g. clear kernel caches)
 
 def on_reset(callback):
     """Register `callback` to run when Taichi is reset (compiled kernels are gone)."""
-    _on_reset.append(callback)
+    if callback not in _on_reset:
+        _on_reset.append(callback)
     return callback
 
 
@@ -112,6 +113,11 @@ def init(arch: str | None = None, precision: str | None = None, threads: int | N
         )
     _current = rt
     return rt
+
+
+def is_current(rt: Runtime) -> bool:
+    """Is `rt` the live runtime (its arrays and kernels still valid)?"""
+    return _current is rt
 
 
 def current() -> Runtime:

@@ -190,8 +190,7 @@ def evaluate(name: str, dim: int, rij, h: float):
     from . import runtime
 
     rt = runtime.current()
-    if _clear not in runtime._on_reset:
-        runtime.on_reset(_clear)
+    runtime.on_reset(_clear)
     key = (rt, name, dim)
     if key not in _evaluators:
         kern = make(name, dim)

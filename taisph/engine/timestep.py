@@ -1,159 +1,194 @@
-"""Time step control and guards, evaluated inside the step kernels.
+"""The time step: one formula, used on the device every step and on the host for estimates.
 
-Time step (Monaghan 1992 sec. 10; Monaghan 2005 sec. 4.7), at the start of every step
-from the previous step's maxima over fluid particles:
+Stability limits (Monaghan 1992 sec. 10; Monaghan 2005 sec. 4.7; Morris, Fox & Zhu
+1997 eq. 19 for the viscous one):
 
-    dt_cfl   = C_cfl   h / max_a (c_a + |v_a|)        acoustic + advective (CFL)
-    dt_force = C_force sqrt(h / max_a |a_a|)          force (acceleration) condition
-    dt_visc  = C_visc  h^2 / nu                       viscous, for terms with a physical
-                                                      viscosity nu (their ``viscosity``)
+    dt_cfl   = C_cfl   h / max_a (c_a + |v_a|)     acoustic + advective (CFL)
+    dt_force = C_force sqrt(h / max_a |a_a|)       force (acceleration) condition
+    dt_visc  = C_visc  h^2 / nu                    physical viscosity: terms that declare
+                                                   a ``viscosity_param`` (laminar viscosity)
 
-``dt_stable = min(...)``. In adaptive mode (the default) ``dt = min(dt_stable, dt_max)``;
-with a fixed ``dt`` the fixed value is used and the host warns once if it exceeds
-``dt_stable``. Either way the step is shortened so that it ends exactly on the next
-output time. Time, step count and the dt history live on the device (``status``), so
-stepping needs no host round trip; the host reads them every few steps.
+``dt_stable = min(dt_cfl, dt_force, dt_visc)`` is :func:`stable_dt`, the only place
+the formula is written: the step kernels call it (as a Taichi function) with the last
+rate evaluation's maxima over fluid particles, :func:`initial_dt` with the initial
+state (sound speed c0, |g|, nu), and :func:`fixed_dt` for a fixed step chosen before a run.
 
-Guards, per fluid particle after its update (cheap: a comparison per quantity, atomics
-only when something is wrong): non-finite position, velocity or density; density
-deviating from the material's rho0 by more than ``max_density_error`` (a fraction; 0
-disables); a position outside the guard box (the domain grown by one kernel support,
-periodic axes excepted). A tripped guard sets a bit in ``flags`` and records up to
-``MAX_RECORDED`` particles; from then on every step has dt = 0 (the state stays as it
-was when the guard tripped, even if the host only looks a few steps later), and the
-host stops and explains (:mod:`taisph.diagnosis`).
-With ``remove_escaped`` a particle leaving the guard box is instead turned into an
-inactive particle (kind ``removed``: no forces, not written), and counted.
+In adaptive mode (the default) ``dt = min(dt_stable, dt_max)``; with a fixed ``dt``
+the fixed value is used and the host warns once if it exceeds ``dt_stable``. Either
+way the step is shortened so that it ends exactly on the next output time.
 """
 
 import collections
+import math
+from dataclasses import dataclass
 
+import numpy as np
 import taichi as ti
 
-from .layout import REMOVED
+from . import status as st
 
-# status (f64) entries
-TIME, DT, MAX_ACC2, MAX_SIGNAL, DT_MIN, DT_MAX, DT_SUM, STEPS, DT_STABLE_MIN, DT_STABLE, FROZEN = range(11)
-# neighbour lists (taisph.grid): largest squared displacement from the positions the
-# lists were built at, this step's rebuild decision, a host request to rebuild (state
-# changed from outside), and the number of rebuilds so far
-MAX_DISP2, REBUILD, FORCE_REBUILD, REBUILDS = range(11, 15)
-STATUS_SIZE = 16
+TINY = 1e-30  # a limit whose maximum is zero (no flow, no force, no viscosity) imposes none (f32-safe)
 
-# flags (i32) entries and failure bits
-CODES, COUNT, REMOVED_COUNT = 0, 1, 2
-RECORDS = 3  # (id, code) pairs from here
-MAX_RECORDED = 16
-FLAGS_SIZE = RECORDS + 2 * MAX_RECORDED
-NONFINITE, DENSITY, ESCAPED = 1, 2, 4
-CODE_NAMES = {NONFINITE: "non-finite state", DENSITY: "density error", ESCAPED: "left the domain"}
 
-PARAMS = (  # name, width ("dim" = one per axis)
+@dataclass
+class Controls:
+    """Time-step and guard settings (runtime values: changing one recompiles nothing).
+
+    dt                 fixed time step (s); None: adaptive (the default)
+    dt_max             cap on the adaptive step (s)
+    courant            C_cfl in dt = C_cfl h / max(c + |v|)             (0.25)
+    force_factor       C_force in dt = C_force sqrt(h / max |a|)         (0.25)
+    viscous_factor     C_visc in dt = C_visc h^2 / nu                     (0.125)
+    max_density_error  stop when |rho/rho0 - 1| exceeds this (0 disables; taisph.engine.guards)
+    remove_escaped     remove (and count) particles that leave the domain instead of stopping;
+                       None: as the scene says (``Scene.remove_escaped``)
+    deterministic      serial (stable) cell sort at every size: bit-reproducible runs
+    """
+
+    dt: float | None = None
+    dt_max: float = math.inf
+    courant: float = 0.25
+    force_factor: float = 0.25
+    viscous_factor: float = 0.125
+    max_density_error: float = 0.2
+    remove_escaped: bool | None = None
+    deterministic: bool = False
+
+
+def stable_dt(h, signal, acceleration, viscosity, courant, force_factor, viscous_factor):
+    """min(C_cfl h / signal, C_force sqrt(h / acceleration), C_visc h^2 / viscosity).
+
+    `signal` is max(c + |v|), `acceleration` max |a|, `viscosity` the largest
+    kinematic viscosity nu; a zero one imposes no limit. Plain Python numbers or, as
+    :func:`stable_dt_device`, values inside a Taichi kernel."""
+    return ti.min(courant * h / ti.max(signal, TINY),
+                  force_factor * ti.sqrt(h / ti.max(acceleration, TINY)),
+                  viscous_factor * h * h / ti.max(viscosity, TINY))
+
+
+stable_dt_device = ti.func(stable_dt)
+
+
+def kinematic_viscosity(terms) -> float:
+    """The largest physical kinematic viscosity nu among `terms` (0 if none)."""
+    return max([float(t.values[t.viscosity_param]) for t in terms if t.viscosity_param] + [0.0])
+
+
+def initial_dt(scene, controls: Controls | None = None, courant: float | None = None) -> float:
+    """The stable step of `scene`'s initial state, by :func:`stable_dt`: the signal speed
+    is the largest material c0 (or, for an equation of state that computes it, such as
+    an ideal gas, the largest initial sound speed) plus the largest initial speed, the
+    acceleration |g|, h the smallest initial smoothing length. For a fixed step chosen
+    before a run; the adaptive step follows the flow instead."""
+    c = controls or Controls()
+    h = scene.smallest_smoothing_length()
+    max_sound_speed = getattr(scene.eos, "max_sound_speed", None)
+    c_max = max_sound_speed(scene) if max_sound_speed else max(m.c0 for m in scene.materials)
+    v_max = float(np.max(np.linalg.norm(scene.velocity, axis=1), initial=0.0))
+    g = max([float(np.linalg.norm(t.values["gravity"])) for t in scene.terms if "gravity" in t.values] + [0.0])
+    dt = stable_dt(h, c_max + v_max, g, kinematic_viscosity(scene.terms),
+                   c.courant if courant is None else courant, c.force_factor, c.viscous_factor)
+    return float(min(dt, c.dt_max))
+
+
+# A fixed step held for a whole run keeps this margin below the initial stable step:
+# the flow's speeds and accelerations lower the limit below its initial estimate (the
+# seed scenes' fixed steps from 0.8 x initial_dt pass the check of every step).
+FIXED_DT_MARGIN = 0.8
+
+
+def fixed_dt(scene, controls: Controls | None = None) -> float:
+    """A fixed step for a whole run of `scene`: FIXED_DT_MARGIN x :func:`initial_dt`."""
+    return FIXED_DT_MARGIN * initial_dt(scene, controls)
+
+
+PARAMS = (  # runtime parameters, name and width
     ("dt_fixed", 1),  # > 0: fixed time step; 0: adaptive
     ("dt_max", 1),
     ("courant", 1),
     ("force_factor", 1),
-    ("dt_viscous", 1),  # C_visc h^2 / nu_max from the terms (inf if none)
-    ("max_density_error", 1),
-    ("remove_escaped", 1),
-    ("guard_lo", "dim"),
-    ("guard_hi", "dim"),
-    ("list_skin", 1),  # neighbour list skin (length); the lists hold pairs closer than
-    ("list_reach2", 1),  # (support + skin)^2
-    ("list_wall_reach2", 1),  # (wall range + skin)^2, if no term needs walls farther
+    ("viscous_factor", 1),
 )
 
 
+def parameter_values(controls: Controls, dt: float | None = None) -> dict:
+    """Values of :data:`PARAMS` for `controls` (`dt`: a one-off fixed step)."""
+    fixed = controls.dt if dt is None else dt
+    return dict(
+        dt_fixed=0.0 if fixed is None else float(fixed),
+        dt_max=min(controls.dt_max, 1e30),  # 'no limit', finite in f32 too
+        courant=controls.courant,
+        force_factor=controls.force_factor,
+        viscous_factor=controls.viscous_factor,
+    )
+
+
 @ti.data_oriented
-class Stepping:
-    def __init__(self, dim, real, layout, param_rows, eos, periodic):
-        self.dim = dim
-        self.real = real
-        self.q = layout.q
-        names = ["smoothing_length"] + [name for name, _ in PARAMS]
-        self.p = collections.namedtuple("SteppingRows", names)(*[param_rows[n] for n in names])
+class TimeStep:
+    """Inside the step kernels: choose dt and advance the clock (:meth:`begin_step`),
+    and collect the maxima the next dt is chosen from (:meth:`track`).
+
+    `viscosity_rows` are the parameter rows of the terms' kinematic viscosities."""
+
+    def __init__(self, param_rows, eos, viscosity_rows=()):
+        self.p_h = param_rows["smoothing_length"]
+        self.p = collections.namedtuple("TimeStepRows", [n for n, _ in PARAMS])(*[param_rows[n] for n, _ in PARAMS])
+        self.viscosity_rows = tuple(viscosity_rows)
         self.eos = eos
-        self.periodic = tuple(periodic)
 
     @ti.func
     def begin_step(self, s: ti.template(), t_target):
-        """Choose this step's dt (serial, once per step) and advance the clock."""
+        """(Serial, once per step.) Choose this step's dt and advance the clock."""
         p = ti.static(self.p)
+        status = ti.static(s.status)
         # the clock and dt are f64 whatever the state's precision
-        h = ti.cast(s.params[p.smoothing_length], ti.f64)
-        big = ti.cast(1e300, ti.f64)
-        dt_cfl = big
-        if s.status[MAX_SIGNAL] > 0.0:
-            dt_cfl = ti.cast(s.params[p.courant], ti.f64) * h / s.status[MAX_SIGNAL]
-        dt_force = big
-        if s.status[MAX_ACC2] > 0.0:
-            dt_force = ti.cast(s.params[p.force_factor], ti.f64) * ti.sqrt(h / ti.sqrt(s.status[MAX_ACC2]))
-        dt_stable = ti.min(dt_cfl, dt_force, ti.cast(s.params[p.dt_viscous], ti.f64))
+        nu = ti.cast(0.0, ti.f64)
+        for row in ti.static(self.viscosity_rows):
+            nu = ti.max(nu, ti.cast(s.params[row], ti.f64))
+        dt_stable = stable_dt_device(
+            ti.cast(s.params[self.p_h], ti.f64), status[st.MAX_SIGNAL], ti.sqrt(status[st.MAX_ACC2]), nu,
+            ti.cast(s.params[p.courant], ti.f64), ti.cast(s.params[p.force_factor], ti.f64),
+            ti.cast(s.params[p.viscous_factor], ti.f64))
         dt = ti.cast(s.params[p.dt_fixed], ti.f64)
         if dt <= 0.0:
             dt = ti.min(dt_stable, ti.cast(s.params[p.dt_max], ti.f64))
-        if s.flags[CODES] != 0:  # a guard tripped: freeze the state for the diagnosis
+        if s.flags[st.CODES] != 0:  # a guard tripped: freeze the state for the diagnosis
             dt = 0.0
-            s.status[FROZEN] = 1.0
-        remaining = t_target - s.status[TIME]
+            status[st.FROZEN] = 1.0
+        remaining = t_target - status[st.TIME]
         if dt > remaining:
             dt = ti.max(remaining, 0.0)
         elif dt < remaining < 1.5 * dt:
             dt = 0.5 * remaining  # two equal steps instead of a sliver before the target
-        s.status[DT] = dt
-        s.status[DT_STABLE] = dt_stable
+        status[st.DT] = dt
+        status[st.DT_STABLE] = dt_stable
         if dt > 0.0:
-            s.status[TIME] += dt
-            s.status[STEPS] += 1.0
-            s.status[DT_SUM] += dt
-            s.status[DT_MIN] = ti.min(s.status[DT_MIN], dt)
-            s.status[DT_MAX] = ti.max(s.status[DT_MAX], dt)
-            s.status[DT_STABLE_MIN] = ti.min(s.status[DT_STABLE_MIN], dt_stable)
-        s.status[MAX_ACC2] = 0.0
-        s.status[MAX_SIGNAL] = 0.0
-        s.status[MAX_DISP2] = 0.0
+            status[st.TIME] += dt
+            status[st.STEPS] += 1.0
+            status[st.DT_SUM] += dt
+            status[st.DT_MIN] = ti.min(status[st.DT_MIN], dt)
+            status[st.DT_MAX] = ti.max(status[st.DT_MAX], dt)
+            status[st.DT_STABLE_MIN] = ti.min(status[st.DT_STABLE_MIN], dt_stable)
+        status[st.MAX_ACC2] = 0.0
+        status[st.MAX_SIGNAL] = 0.0
+        status[st.MAX_DISP2] = 0.0
 
     @ti.func
     def track(self, s: ti.template(), i, rates: ti.template()):
-        """Maxima for the next dt and the guards, for fluid particle i just updated."""
-        q = ti.static(self.q)
-        p = ti.static(self.p)
-        x = s.Cv[q.position, i]
-        v = s.Cv[q.velocity, i]
-        rho = s.Cs[q.density, i]
-        acc2 = rates.acc.norm_sqr()
-        signal = self.eos.sound_speed(s, i) + v.norm()
+        """Fold fluid particle i (just updated, in C) into the maxima of |a|^2 and c + |v|."""
+        acc2 = ti.cast(rates.acc.norm_sqr(), ti.f64)
+        signal = ti.cast(self.eos.sound_speed(s, i) + s.Cv[self.eos.q.velocity, i].norm(), ti.f64)
         # Read before the atomic: the maxima rarely grow, and a plain read of a line
         # no thread writes is cheap, while an atomic on it makes both cores fight
         # over the cache line for every particle.
-        acc2_64, signal_64 = ti.cast(acc2, ti.f64), ti.cast(signal, ti.f64)
-        if acc2_64 > s.status[MAX_ACC2]:
-            ti.atomic_max(s.status[MAX_ACC2], acc2_64)
-        if signal_64 > s.status[MAX_SIGNAL]:
-            ti.atomic_max(s.status[MAX_SIGNAL], signal_64)
-        code = 0
-        check = x.sum() + v.sum() + rho + acc2
-        if not (check - check == 0.0):  # NaN or inf anywhere
-            code |= NONFINITE
-        if ti.static(hasattr(self.eos.m, "rho0")):  # EOS with a reference density
-            max_error = s.params[p.max_density_error]
-            if max_error > 0.0:
-                error = ti.abs(rho / s.mat[s.Si[q.material, i], self.eos.m.rho0] - 1.0)
-                if error > max_error:
-                    code |= DENSITY
-        outside = False
-        for d in ti.static(range(self.dim)):
-            if ti.static(not self.periodic[d]):
-                if x[d] < s.params[p.guard_lo + d] or x[d] > s.params[p.guard_hi + d]:
-                    outside = True
-        if outside and code == 0 and s.params[p.remove_escaped] > 0.0:
-            s.Ci[q.kind, i] = REMOVED
-            ti.atomic_add(s.flags[REMOVED_COUNT], 1)
-        elif outside:
-            code |= ESCAPED
-        if code != 0 and s.status[FROZEN] == 0.0:
-            ti.atomic_or(s.flags[CODES], code)
-            k = ti.atomic_add(s.flags[COUNT], 1)
-            if k < MAX_RECORDED:
-                s.flags[RECORDS + 2 * k] = s.Si[q.id, i]
-                s.flags[RECORDS + 2 * k + 1] = code
+        if acc2 > s.status[st.MAX_ACC2]:
+            ti.atomic_max(s.status[st.MAX_ACC2], acc2)
+        if signal > s.status[st.MAX_SIGNAL]:
+            ti.atomic_max(s.status[st.MAX_SIGNAL], signal)
+
+
+def estimate(read_status, h: float, controls: Controls, viscosity: float) -> float:
+    """The dt the next adaptive step will take, from the device's maxima (host side)."""
+    dt = stable_dt(h, read_status(st.MAX_SIGNAL), math.sqrt(read_status(st.MAX_ACC2)), viscosity,
+                   controls.courant, controls.force_factor, controls.viscous_factor)
+    return float(min(dt, controls.dt_max))

@@ -12,6 +12,8 @@ A negative internal energy is not clamped: it makes the sound speed NaN, which n
 later step can hide (the gas tests check that e and rho stay positive).
 """
 
+import copy
+
 import numpy as np
 import taichi as ti
 
@@ -29,9 +31,11 @@ class IdealGas:
         return [material.gamma]
 
     def bind(self, layout, material_cols):
-        self.q = layout.q
-        self.m = material_cols
-        return self
+        """A copy with compile-time rows attached (the scene's own stays picklable)."""
+        bound = copy.copy(self)
+        bound.q = layout.q
+        bound.m = material_cols
+        return bound
 
     def compile_key(self):
         return ("ideal_gas",)

@@ -7,6 +7,8 @@ sets the compressibility: c0 >= 10 U_max keeps density variations near 1 %.
 Each material has its own rho0, c0, gamma (columns of the material table).
 """
 
+import copy
+
 import taichi as ti
 
 
@@ -25,9 +27,11 @@ class Tait:
         return [material.rho0, material.c0, material.gamma, b]
 
     def bind(self, layout, material_cols):
-        self.q = layout.q
-        self.m = material_cols
-        return self
+        """A copy with compile-time rows attached (the scene's own stays picklable)."""
+        bound = copy.copy(self)
+        bound.q = layout.q
+        bound.m = material_cols
+        return bound
 
     def compile_key(self):
         return ("tait",)

@@ -1,8 +1,10 @@
-"""Progress display for long runs: a rich bar with simulated time, steps/s and ETA."""
+"""Progress of a run: a rich bar with simulated time, steps/s and ETA while it runs, and
+the summary of what it did."""
 
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 
 class Progress:
@@ -48,3 +50,45 @@ class Progress:
         if self.enabled:
             self._bar.__exit__(*exc)
         return False
+
+
+@dataclass
+class RunSummary:
+    """What :meth:`Simulation.run` did."""
+
+    particles: int
+    fluid_particles: int
+    steps: int
+    sim_time: float
+    wall_time: float
+    frames: int
+    out: str | None
+    dt_min: float = float("nan")
+    dt_mean: float = float("nan")
+    dt_max: float = float("nan")
+    removed: int = 0  # particles removed so far (left the domain)
+    list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
+    fluid_mass: float = float("nan")  # of the fluid particles still simulated, at the end
+    removed_mass: float = 0.0  # of the particles removed so far
+
+    @property
+    def particle_steps_per_second(self) -> float:
+        """Fluid particle-steps per wall second (the number SPH codes compare)."""
+        return self.fluid_particles * self.steps / self.wall_time if self.wall_time > 0 else float("nan")
+
+    def __str__(self) -> str:
+        out = f", output in {self.out}" if self.out else ""
+        removed = ""
+        if self.list_rebuilds is not None:
+            removed = f", neighbour lists rebuilt {self.list_rebuilds} times"
+        removed += f", fluid mass {self.fluid_mass:.6g} kg"
+        if self.removed:
+            removed += (f" + {self.removed_mass:.4g} kg removed ({self.removed} particles left the domain) "
+                        f"= {self.fluid_mass + self.removed_mass:.6g} kg")
+        return (
+            f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
+            f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "
+            f"({self.particle_steps_per_second / 1e6:.2f} M fluid particle-steps/s), "
+            f"dt min/mean/max {self.dt_min:.3g}/{self.dt_mean:.3g}/{self.dt_max:.3g} s, "
+            f"{self.frames} frames{removed}{out}"
+        )

@@ -99,6 +99,14 @@ class VTKWriter:
             arrays[name] = sim.quantity(name)[select]
         return arrays
 
+    # a run writer (taisph.Simulation.run): the initial frame, then one per output time
+    def on_start(self, sim):
+        if sim.steps == 0:
+            self.write(sim)
+
+    def on_frame(self, sim, k: int):
+        self.write(sim)
+
     def write(self, sim) -> Path:
         fluid = sim.fluid
         name = f"{self.name}_{self.frame:05d}.vtu"

@@ -12,18 +12,47 @@ import itertools
 import math
 import os
 from dataclasses import dataclass, field
+from typing import NamedTuple
+
+from ..parameters import ParameterError, Number, Range, at_least, between, flag, integer, one_of, optional, positive
+
+
+class Numbers(Range):
+    """Any number of values of `inner`, comma-separated, in parentheses on a command
+    line (e.g. a validation's sample ``times``: ``(0.1,0.5,1)``)."""
+
+    def __init__(self, inner: Range):
+        self.inner = inner
+
+    def accepts(self, value) -> bool:
+        try:
+            items = tuple(value)
+        except TypeError:
+            return False
+        return len(items) > 0 and all(self.inner.accepts(v) for v in items)
+
+    def describe(self) -> str:
+        return f"values {self.inner.describe()}, e.g. (0.1,0.5,1)"
+
+    def parse(self, text: str):
+        return tuple(self.inner.parse(w.strip()) for w in text.strip().strip("()").split(","))
+
 
 # Run settings: not case parameters but options of the simulation or of the runtime
-# (the same as the plain command's options). name -> (parser, what it is)
+# (the same as the plain command's options). name -> (allowed range, what it is)
 SETTINGS = {
-    "precision": ("f32 or f64", "float precision of the run"),
-    "threads": ("int", "CPU threads of the run"),
-    "dt": ("float or none", "fixed time step (s); none: adaptive"),
-    "neighbour_skin": ("float", "neighbour list skin (fraction of the support radius)"),
-    "max_density_error": ("float", "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
-    "deterministic": ("bool", "serial cell sort: bit-for-bit reproducible runs"),
-    "remove_escaped": ("bool", "remove particles that leave the domain instead of stopping"),
+    "precision": (one_of("f32", "f64"), "float precision of the run"),
+    "threads": (integer(at_least=1), "CPU threads of the run"),
+    "dt": (optional(positive), "fixed time step (s); none: adaptive"),
+    "neighbour_skin": (between(0, 2), "neighbour list skin (fraction of the support radius)"),
+    "max_density_error": (at_least(0), "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
+    "deterministic": (flag, "serial cell sort: bit-for-bit reproducible runs"),
+    "remove_escaped": (flag, "remove particles that leave the domain instead of stopping"),
 }
+# Keywords of the validation runs (taisph.validation.runs) and their ranges; every
+# validation takes dt_factor (the case's step is multiplied by it).
+VALIDATION_KEYWORDS = {"T_end": positive, "t_end": optional(positive), "samples": integer(at_least=1),
+                       "times": Numbers(positive), "dt_factor": positive}
 # Settings a validation run honours: it builds its simulation with the default controls.
 VALIDATION_SETTINGS = ("precision", "threads")
 # Validations that end at their reference's own times, not at the scene's t_end.
@@ -36,17 +65,26 @@ class SweepError(ValueError):
     """Bad input to a sweep, found before any run starts."""
 
 
+class Name(NamedTuple):
+    """A name a sweep may set or vary."""
+
+    kind: str  # "case" (a parameter of the case), "setting" (a run setting), "validation" (its keyword)
+    default: object
+    range: Range  # what is allowed; parses text (taisph.parameters)
+
+
 def resolve_case(case: str):
     """The scene factory of `case`: ``factory(**params) -> Scene``.
 
     The one place a sweep turns its CASE argument into scenes, in the starting
-    process and in every worker (a scene file would be resolved here too)."""
-    import taisph
+    process and in every worker: the command line's registry
+    (:func:`taisph.cli.cases.find`)."""
+    from ..cli import cases
 
-    cases = taisph.cases.CASES
-    if case not in cases:
-        raise SweepError(f"unknown case {case!r}; the cases are: {', '.join(cases)}")
-    return cases[case]
+    try:
+        return cases.find(case)
+    except ParameterError as err:
+        raise SweepError(str(err)) from None
 
 
 def has_reference(case: str) -> bool:
@@ -55,85 +93,55 @@ def has_reference(case: str) -> bool:
     return case in VALIDATIONS
 
 
-def _defaults(func, skip=()) -> dict:
-    return {name: p.default for name, p in inspect.signature(func).parameters.items()
-            if p.default is not inspect.Parameter.empty and name not in skip}
+def names(case: str, validate: bool) -> dict[str, Name]:
+    """Every name a sweep of `case` may set or vary, with its kind, default and range:
+    the case's parameters as declared in its file (:func:`taisph.cli.cases.parameters`),
+    the run settings and, for validation runs, the validation's keywords."""
+    from ..cli import cases
 
-
-def names(case: str, validate: bool) -> dict:
-    """Every name a sweep of `case` may set or vary: name -> (kind, default), kind
-    being "case" (a parameter of the case), "setting" (a run setting) or "validation"
-    (a keyword of the case's validation run)."""
-    allowed = {name: ("case", default) for name, default in _defaults(resolve_case(case)).items()}
-    allowed.update({name: ("setting", None) for name in SETTINGS})
+    resolve_case(case)
+    allowed = {name: Name("case", p.default, p.range) for name, p in cases.parameters(case).items()}
+    allowed.update({name: Name("setting", None, rng) for name, (rng, _) in SETTINGS.items()})
     if validate:
         from ..validation import VALIDATIONS
 
-        for name, default in _defaults(VALIDATIONS[case], skip=("precision",)).items():
-            allowed.setdefault(name, ("validation", default))
-        allowed["dt_factor"] = ("validation", 1.0)  # every validation multiplies the case's step by it
+        keywords = {name: p.default for name, p in inspect.signature(VALIDATIONS[case]).parameters.items()
+                    if p.default is not inspect.Parameter.empty and name != "precision"}
+        keywords["dt_factor"] = 1.0
+        for name, default in keywords.items():
+            allowed.setdefault(name, Name("validation", default, VALIDATION_KEYWORDS.get(name) or _range_of(default)))
     return allowed
 
 
-def _parse_bool(text: str) -> bool:
-    if text.lower() in ("1", "true", "yes", "on"):
-        return True
-    if text.lower() in ("0", "false", "no", "off"):
-        return False
-    raise ValueError(f"expected true or false, got {text!r}")
+def _range_of(default) -> Range:
+    """A range for a validation keyword not in :data:`VALIDATION_KEYWORDS`, from its default."""
+    if isinstance(default, bool):
+        return flag
+    if isinstance(default, tuple):
+        return Numbers(Number())
+    return optional(Number(integer=isinstance(default, int)))
 
 
-def _parse_setting(name: str, text: str):
-    if name == "precision":
-        if text not in ("f32", "f64"):
-            raise ValueError(f"expected f32 or f64, got {text!r}")
-        return text
-    if name == "threads":
-        value = int(text)
-        if value < 1:
-            raise ValueError(f"expected a positive integer, got {text!r}")
-        return value
-    if name in ("deterministic", "remove_escaped"):
-        return _parse_bool(text)
-    if name == "dt" and text.lower() in ("none", "adaptive"):
-        return None
-    return float(text)
-
-
-def parse(case: str, name: str, value, allowed: dict):
-    """`value` of `name` as the type the run needs (text is parsed; other values are kept)."""
-    from ..cli.main import _parse_value
-
+def parse(case: str, name: str, value, allowed: dict[str, Name]):
+    """`value` of `name` as the run needs it: text is parsed by the name's range (as
+    ``--set`` parses it: :meth:`taisph.parameters.Range.parse`), and every value must be
+    in that range."""
     if name not in allowed:
         groups = {"case": "case parameters", "setting": "run settings", "validation": "validation keywords"}
-        listed = "; ".join(f"{title}: {', '.join(n for n, (k, _) in allowed.items() if k == kind)}"
-                           for kind, title in groups.items() if any(k == kind for k, _ in allowed.values()))
+        listed = "; ".join(f"{title}: {', '.join(n for n, a in allowed.items() if a.kind == kind)}"
+                           for kind, title in groups.items() if any(a.kind == kind for a in allowed.values()))
         raise SweepError(f"{case} has no parameter {name!r}; allowed are {listed}")
-    if not isinstance(value, str):
-        return value
-    kind, default = allowed[name]
+    rng = allowed[name].range
+    if isinstance(value, str):
+        try:
+            value = rng.parse(value.strip())
+        except ValueError as err:
+            raise SweepError(f"{name}: cannot read {value!r} ({err}); {name} must be {rng.describe()}") from None
     try:
-        if kind == "setting":
-            return _parse_setting(name, value.strip())
-        if isinstance(default, str):
-            return value.strip()
-        return _parse_value(value.strip(), default)
-    except ValueError as err:
-        raise SweepError(f"{name}: cannot read {value!r} ({err}); expected {_expected(name, kind, default)}") from None
-
-
-def _expected(name: str, kind: str, default) -> str:
-    if kind == "setting":
-        return SETTINGS[name][0]
-    if isinstance(default, bool):
-        what = "true or false"
-    elif isinstance(default, int):
-        what = "an integer"
-    elif isinstance(default, tuple):
-        what = "numbers in parentheses, e.g. (0,-9.81)"
-    else:
-        what = "a number"
-    return f"{what} (default {default!r})"
+        rng.check(name, value, case)
+    except ParameterError as err:
+        raise SweepError(str(err)) from None
+    return value
 
 
 def split_values(text: str) -> list[str]:
@@ -248,9 +256,9 @@ def plan_tasks(case: str, vary: dict, fixed: dict, validate: bool | None = None,
     for values in itertools.product(*parsed_vary.values()):
         combination = dict(zip(parsed_vary, values))
         everything = {**parsed_fixed, **combination}
-        settings = {k: v for k, v in everything.items() if allowed[k][0] == "setting"}
+        settings = {k: v for k, v in everything.items() if allowed[k].kind == "setting"}
         settings.setdefault("precision", "f64")
-        params = {k: v for k, v in everything.items() if allowed[k][0] != "setting"}
+        params = {k: v for k, v in everything.items() if allowed[k].kind != "setting"}
         name = run_name(combination)
         folder = os.path.join(out, name) if (out is not None and frames_per_run) else None
         tasks.append(Task(case, name, params, settings, validate, folder, combination))

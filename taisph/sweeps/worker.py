@@ -55,7 +55,7 @@ def blank_result(task: Task) -> dict:
 def fail(result: dict, err: BaseException) -> None:
     """Record `err` in `result`: status ``failed: <first line>`` (a tripped guard's
     first line is its diagnosis), failure: the type and the whole message."""
-    from ..simulation import SimulationError
+    from ..engine.diagnosis import SimulationError
 
     message = str(err).strip() or repr(err)
     first = message.splitlines()[0]
@@ -65,9 +65,11 @@ def fail(result: dict, err: BaseException) -> None:
 
 def _scene(task: Task):
     """The run's scene, built as the plain command and the validation runs build it."""
-    factory = resolve_case(task.case)
     import inspect
 
+    from ..engine.timestep import fixed_dt
+
+    factory = resolve_case(task.case)
     accepted = inspect.signature(factory).parameters
     scene = factory(**{k: v for k, v in task.params.items() if k in accepted})
     settings = task.settings
@@ -77,7 +79,7 @@ def _scene(task: Task):
         scene.neighbour_skin = settings["neighbour_skin"]
     dt_factor = task.params.get("dt_factor", 1.0) if task.validate else 1.0
     if dt_factor != 1.0:  # as taisph.validation.runs does
-        scene.dt = (scene.dt or scene.stable_dt()) * dt_factor
+        scene.dt = (scene.dt or fixed_dt(scene)) * dt_factor
     return scene
 
 

@@ -25,7 +25,6 @@ class ArtificialConductivity(Term):
 
     name = "artificial_conductivity"
     params = {"alpha_u": 1.0}
-    has_pair = True
     wall_range = None  # fluid neighbours only
 
     def check(self, scene):

@@ -39,23 +39,8 @@ class ArtificialViscosity(Term):
 
     name = "artificial_viscosity"
     params = {"alpha": 0.1, "beta": 0.0, "eta_factor": 0.01}
-    has_pair = True
 
-    def __init__(self, walls: bool = False, **values):
-        super().__init__(**values)
-        self.options = {"walls": bool(walls)}
-
-    @property
-    def wall_range(self):
-        return "support" if self.options["walls"] else None
-
-    def check(self, scene):
-        if self.options["walls"] and "dummy_walls" not in scene.terms_by_name:
-            raise ValueError("ArtificialViscosity(walls=True) needs dummy walls (AdamiWall): "
-                             "wall particles must carry a density")
-
-    def describe(self):
-        return super().describe()[:-1] + (", walls)" if self.options["walls"] else ")")
+    takes_walls = True
 
     def bound(self, *args, **kwargs):
         t = super().bound(*args, **kwargs)
@@ -65,9 +50,9 @@ class ArtificialViscosity(Term):
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
-        if ti.static(self.options["walls"]) or s.Si[q.kind, j] == FLUID:
+        if self.sees(s, j):
             vj = s.Sv[q.velocity, j]
-            if ti.static(self.options["walls"]):
+            if ti.static(self.with_walls):
                 if s.Si[q.kind, j] != FLUID:
                     vj = s.Sv[q.wall_velocity, j]
             vij = s.Sv[q.velocity, i] - vj

@@ -1,56 +1,83 @@
-"""What a physical term is, and how the solver plugs it in.
+"""What a physical term is, and how the engine plugs it in.
 
 A term is one physical effect: one equation (or one part of one), with its source in
-its docstring. The solver assembles its per-step kernels at compile time from the
+its docstring. The engine assembles its per-step kernels at compile time from the
 terms a scene lists, with ``ti.static`` loops, so a term the scene does not list
-contributes no code and no memory. Its parameters are runtime values (one slot each
-in the simulation's parameter array), so changing them never recompiles a kernel.
+contributes no code and no memory (:mod:`taisph.engine.kernels`). Its parameters are
+runtime values (one slot each in the simulation's parameter array), so changing them
+never recompiles a kernel.
 
-A term class declares:
+A term class declares (all optional):
 
+``name``
+    the term's name in descriptions, ``scene.terms_by_name`` and error messages;
 ``params``
-    runtime parameters and their defaults (``float``, or ``"vector"`` for a
-    ``dim``-vector such as gravity whose default the term computes itself);
-``vectors``, ``scalars``
-    extra per-particle quantities it needs stored (see :mod:`taisph.layout`);
+    runtime parameters and their defaults (``float``, ``None`` for "required", or
+    ``"vector"`` for a ``dim``-vector such as gravity whose default the term computes);
+``vectors``, ``scalars``, ``integers``
+    extra per-particle quantities it needs stored (see :mod:`taisph.engine.layout`);
 ``integrates``
     per-particle scalars it gives a time derivative for, ``{quantity: rate}``;
     the integrator advances them (``density`` from ``d_density`` for continuity);
-``pair(s, i, j, rij, r, grad, rates)``
-    optional ``ti.func``: contribution of neighbour ``j`` to fluid particle ``i``
-    (``rij = x_i - x_j``, ``r = |rij|``, ``grad = grad_i W_ij``), added to the
-    local accumulator ``rates``: ``rates.acc`` (dv/dt) and ``rates.d[self.r.<rate>]``
-    (e.g. ``rates.d[self.r.d_density]``);
-``body(s, i, rates)``
-    optional ``ti.func``: contribution that needs no neighbour (e.g. gravity);
-``derive(s, i)``
-    optional ``ti.func``, run for every particle after the equation of state when
-    the state is gathered in cell order: per-particle quantities the pair sums
-    reuse (e.g. P / rho^2), stored in the term's own ``scalars``;
-``passes()``
-    optional: :class:`NeighbourPass` objects - neighbour sums that must be complete
-    before the rates are summed (wall pressure from the fluid, summation density);
+``takes_walls``
+    True if the term accepts ``walls=True``: wall particles then join its neighbour
+    sums like fluid ones (for wall models whose particles carry a density, pressure
+    and no-slip velocity: dummy walls, :class:`taisph.terms.AdamiWall`, which the
+    scene must then list); without it, or with ``walls=False``, the term sums over
+    fluid neighbours only. Test a neighbour with :meth:`sees`;
+``wall_range``
+    for a term that looks at walls in another way: ``"support"`` (walls in its kernel
+    sums, the default), ``None`` (it skips walls), or the name of a length parameter
+    (a wall force's cut-off). Neighbour lists keep only the walls within the largest
+    range the scene's terms need (plus the skin);
+``viscosity_param``
+    the name of the parameter holding a physical kinematic viscosity nu (m^2/s),
+    which limits the time step to C h^2 / nu (:mod:`taisph.engine.timestep`);
 ``has_shift``
     the term adds ``rates.shift``, a velocity correction that moves particles but is
     not their momentum (XSPH); the integrator advances positions with v + shift;
 ``outputs``
-    quantities written to the ParaView frames besides the standard ones.
+    quantities written to the ParaView frames besides the standard ones;
+``options``
+    compile-time options (part of the kernel cache key), set by the constructor.
 
-Inside those functions ``s`` is the kernel context (sorted state ``s.Sv``, ``s.Ss``,
-``s.Si``; parameters ``s.params``; material table ``s.mat``); ``self.q.<quantity>``,
-``self.p.<param>``, ``self.m.<material property>`` and ``self.r.<rate>`` are compile-time indices
-set by :meth:`bind`.
+and the hooks it needs, ``ti.func`` methods the engine calls if the class defines them:
+
+``pair(s, i, j, rij, r, grad, rates)``
+    contribution of neighbour ``j`` to fluid particle ``i`` (``rij = x_i - x_j``,
+    ``r = |rij|``, ``grad = grad_i W_ij``), added to the local accumulator ``rates``:
+    ``rates.acc`` (dv/dt) and ``rates.d[self.r.<rate>]`` (e.g. ``self.r.d_density``);
+``body(s, i, rates)``
+    a contribution that needs no neighbour (gravity);
+``derive(s, i)``
+    run for every particle after the equation of state when the state is gathered in
+    cell order: per-particle quantities the pair sums reuse (e.g. P / rho^2), stored
+    in the term's own ``scalars``;
+``passes()``
+    (plain Python) :class:`NeighbourPass` objects: neighbour sums that must be
+    complete before the rates are summed (wall pressure from the fluid, summation
+    density);
+``check(scene)``
+    (plain Python) raise ValueError if the term cannot work in `scene`.
+
+Inside the hooks ``s`` is the kernel context (:class:`taisph.engine.assembly.Args`:
+sorted state ``s.Sv``, ``s.Ss``, ``s.Si``; parameters ``s.params``; material table
+``s.mat``); ``self.q.<quantity>``, ``self.p.<param>``, ``self.m.<material constant>``
+and ``self.r.<rate>`` are compile-time row indices set by :meth:`Term.bound`.
+
+Adding a term: a checklist is in docs/architecture.md.
 """
 
-
+import collections
 import copy
 import math
-import collections
 
 import numpy as np
 import taichi as ti
 
-from ..engine.layout import VARIABLE_H
+from ..engine.layout import FLUID, VARIABLE_H
+
+HOOKS = ("pair", "body", "derive")
 
 
 class Term:
@@ -60,27 +87,47 @@ class Term:
     scalars: tuple = ()
     integers: tuple = ()
     integrates: dict = {}
-    has_pair = False
-    has_body = False
-    has_derive = False
+    takes_walls = False
+    wall_range = "support"
+    viscosity_param = None
     has_shift = False
     outputs: tuple = ()
-    # How far a term looks at *wall* neighbours: "support" (walls take part in its
-    # kernel sums; the safe default), None (it skips walls), or the name of a length
-    # parameter (e.g. a wall force's cut-off). If no term of a scene needs walls
-    # across the whole support, the neighbour lists keep only the walls within the
-    # largest such range (plus the skin): far fewer entries next to dense walls.
-    wall_range = "support"
-    # quantities a term reads from the material table (column names)
-    options: dict = {}  # compile-time options: part of the kernel cache key
+    # the hooks; a subclass defines those it needs as ti.func methods
+    pair = None
+    body = None
+    derive = None
 
-    def __init__(self, **values):
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        for hook in HOOKS:  # has_<hook> is derived: a declared one could disagree with the code
+            if f"has_{hook}" in cls.__dict__:
+                raise TypeError(f"{cls.__name__} sets has_{hook}; remove it: the engine calls {hook}() "
+                                "exactly when the class defines it")
+
+    @property
+    def has_pair(self) -> bool:
+        return type(self).pair is not None
+
+    @property
+    def has_body(self) -> bool:
+        return type(self).body is not None
+
+    @property
+    def has_derive(self) -> bool:
+        return type(self).derive is not None
+
+    def __init__(self, walls: bool = False, **values):
         unknown = set(values) - set(self.params)
         if unknown:
             raise TypeError(
                 f"{type(self).__name__} has no parameter(s) {', '.join(sorted(unknown))}; "
                 f"it has: {', '.join(self.params) or 'none'}"
             )
+        self.options = {}
+        if self.takes_walls:
+            self.options["walls"] = bool(walls)
+        elif walls:
+            raise TypeError(f"{type(self).__name__} takes fluid neighbours only (no walls option)")
         self.values = {k: v for k, v in self.params.items() if v != "vector"}
         self.values.update(values)
 
@@ -104,6 +151,19 @@ class Term:
         t.m = material_cols
         t.eos = eos
         return t
+
+    @property
+    def with_walls(self) -> bool:
+        """Do wall particles join this term's sums (``walls=True``)?"""
+        return self.options.get("walls", False)
+
+    @ti.func
+    def sees(self, s: ti.template(), j) -> bool:
+        """Does neighbour j take part in this term's sums: fluid, or any with walls=True."""
+        seen = True
+        if ti.static(not self.with_walls):
+            seen = s.Si[self.q.kind, j] == FLUID
+        return seen
 
     # --- runtime ------------------------------------------------------------
     def param_values(self, dim: int) -> dict:
@@ -149,9 +209,12 @@ class Term:
         return result
 
     def wall_reach(self):
-        """:attr:`wall_range`, or None for a term with no neighbour sums at all."""
+        """How far the term looks at wall neighbours: ``"support"``, None (not at all)
+        or the name of a length parameter (see ``wall_range``)."""
         if not self.has_pair and type(self).passes is Term.passes:
-            return None
+            return None  # no neighbour sums at all
+        if self.takes_walls:
+            return "support" if self.with_walls else None
         return self.wall_range
 
     def passes(self) -> list:
@@ -159,11 +222,17 @@ class Term:
         return []
 
     def check(self, scene) -> None:
-        """Raise ValueError if the term cannot work in `scene` (override)."""
+        """Raise ValueError if the term cannot work in `scene`; the base class checks
+        that ``walls=True`` has dummy walls to sum over."""
+        if self.with_walls and "dummy_walls" not in scene.terms_by_name:
+            raise ValueError(f"{type(self).__name__}(walls=True) needs the dummy-wall term (AdamiWall) in the "
+                             "scene: wall particles must carry a density, pressure and no-slip velocity")
 
     def describe(self) -> str:
-        vals = ", ".join(f"{k}={_fmt(v)}" for k, v in self.values.items())
-        return f"{self.name}({vals})" if vals else self.name
+        parts = [f"{k}={_fmt(v)}" for k, v in self.values.items()]
+        if self.with_walls:
+            parts.append("walls")
+        return f"{self.name}({', '.join(parts)})" if parts else self.name
 
 
 def _fmt(v):

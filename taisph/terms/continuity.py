@@ -10,7 +10,6 @@ the SPH sums (seed section 2). ``walls=True`` includes wall particles with their
 
 import taichi as ti
 
-from ..engine.layout import FLUID
 from .base import Term
 
 
@@ -18,21 +17,11 @@ from .base import Term
 class Continuity(Term):
     name = "continuity"
     integrates = {"density": "d_density"}
-    has_pair = True
 
-    def __init__(self, walls: bool = False):
-        super().__init__()
-        self.options = {"walls": bool(walls)}
-
-    @property
-    def wall_range(self):
-        return "support" if self.options["walls"] else None
-
-    def describe(self):
-        return "continuity(walls)" if self.options["walls"] else "continuity"
+    takes_walls = True
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
-        if ti.static(self.options["walls"]) or s.Si[self.q.kind, j] == FLUID:
+        if self.sees(s, j):
             vij = s.Sv[self.q.velocity, i] - s.Sv[self.q.velocity, j]
             rates.d[self.r.d_density] += s.Ss[self.q.mass, j] * vij.dot(grad)

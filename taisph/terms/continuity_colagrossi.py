@@ -23,9 +23,7 @@ from .base import Term
 class ContinuityColagrossi(Term):
     name = "continuity_colagrossi"
     integrates = {"density": "d_density"}
-    has_pair = True
     wall_range = None  # fluid neighbours only
-    has_derive = True
     scalars = ("volume",)
 
     def check(self, scene):

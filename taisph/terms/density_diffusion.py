@@ -38,7 +38,6 @@ from .base import Term
 class DensityDiffusion(Term):
     name = "density_diffusion"
     params = {"delta": 0.1}
-    has_pair = True
     wall_range = None  # fluid neighbours only
 
     def __init__(self, hydrostatic: bool = True, **values):

@@ -31,7 +31,6 @@ class InternalEnergy(Term):
     name = "energy"
     scalars = ("energy",)
     integrates = {"energy": "d_energy"}
-    has_pair = True
     wall_range = None  # fluid neighbours only
 
     def __init__(self, form: str = "compatible"):

@@ -14,7 +14,6 @@ class Gravity(Term):
 
     name = "gravity"
     params = {"gravity": "vector"}
-    has_body = True
 
     def __init__(self, gravity=None):
         super().__init__() if gravity is None else super().__init__(gravity=gravity)

@@ -24,35 +24,23 @@ from .base import Term
 class LaminarViscosity(Term):
     name = "laminar_viscosity"
     params = {"nu": None}
-    has_pair = True
 
-    def __init__(self, walls: bool = False, **values):
-        super().__init__(**values)
-        self.options = {"walls": bool(walls)}
-
-    @property
-    def wall_range(self):
-        return "support" if self.options["walls"] else None
+    takes_walls = True
+    viscosity_param = "nu"  # limits dt to 0.125 h^2 / nu
 
     def check(self, scene):
         nu = self.values.get("nu")
         if nu is None or not nu >= 0:
             raise ValueError(f"LaminarViscosity needs a kinematic viscosity nu >= 0 (m^2/s), got {nu!r}")
-        if self.options["walls"] and "dummy_walls" not in scene.terms_by_name:
-            raise ValueError("LaminarViscosity(walls=True) needs the dummy-wall term (AdamiWall) in the scene: "
-                             "it provides the no-slip wall velocity")
-
-    def describe(self):
-        return super().describe()[:-1] + (", no-slip walls)" if self.options["walls"] else ")")
+        super().check(scene)
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
-        fluid = s.Si[q.kind, j] == FLUID
-        if ti.static(self.options["walls"]) or fluid:
+        if self.sees(s, j):
             vj = s.Sv[q.velocity, j]
-            if ti.static(self.options["walls"]):
-                if not fluid:
+            if ti.static(self.with_walls):
+                if s.Si[q.kind, j] != FLUID:
                     vj = s.Sv[q.wall_velocity, j]
             rho_i = s.Ss[q.density, i]
             rho_j = s.Ss[q.density, j]

@@ -22,7 +22,6 @@ from .base import Term
 class LennardJonesWall(Term):
     name = "lennard_jones_wall"
     params = {"lj_strength": None, "lj_cutoff": None}
-    has_pair = True
     wall_range = "lj_cutoff"  # walls act only within r0
 
     def __init__(self, p1: int = 12, p2: int = 6, **values):

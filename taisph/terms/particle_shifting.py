@@ -39,7 +39,6 @@ from .base import Term
 class ParticleShifting(Term):
     name = "particle_shifting"
     params = {"shift_speed": None, "shift_dx": None}
-    has_pair = True
     wall_range = None  # fluid neighbours only
     has_shift = True
 

@@ -11,27 +11,15 @@ pressure and density (dummy walls, :class:`taisph.terms.AdamiWall`).
 
 import taichi as ti
 
-from ..engine.layout import FLUID
 from .base import Term
 
 
 @ti.data_oriented
 class PressureGradient(Term):
     name = "pressure"
-    has_pair = True
-    has_derive = True
     scalars = ("p_over_rho2",)
 
-    def __init__(self, walls: bool = False):
-        super().__init__()
-        self.options = {"walls": bool(walls)}
-
-    @property
-    def wall_range(self):
-        return "support" if self.options["walls"] else None
-
-    def describe(self):
-        return "pressure(walls)" if self.options["walls"] else "pressure"
+    takes_walls = True
 
     @ti.func
     def derive(self, s: ti.template(), i):
@@ -41,7 +29,7 @@ class PressureGradient(Term):
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
-        if ti.static(self.options["walls"]) or s.Si[self.q.kind, j] == FLUID:
+        if self.sees(s, j):
             q = ti.static(self.q)
             pij = s.Ss[q.p_over_rho2, i] + s.Ss[q.p_over_rho2, j]
             rates.acc -= s.Ss[q.mass, j] * pij * grad

@@ -31,9 +31,7 @@ from .base import Term
 @ti.data_oriented
 class PressureHuAdams(Term):
     name = "pressure_hu_adams"
-    has_pair = True
     wall_range = None  # fluid neighbours only
-    has_derive = True
     scalars = ("volume",)
 
     def check(self, scene):

@@ -10,7 +10,7 @@ step); with :class:`Continuity` h follows the evolved density directly. No grad-
 (Omega) correction terms are included.
 
 Its presence switches the neighbour sums to per-particle h (compile time, see
-:mod:`taisph.solver`): pair forces use the mean of both particles' kernel gradients,
+:mod:`taisph.engine.kernels`): pair forces use the mean of both particles' kernel gradients,
 grad W_ab = [grad W(r_ab, h_a) + grad W(r_ab, h_b)] / 2 (Hernquist & Katz 1989),
 which keeps them antisymmetric; density sums use W(r_ab, h_a).
 
@@ -33,7 +33,6 @@ class AdaptiveSmoothingLength(Term):
     name = "adaptive_h"
     params = {"h_factor": 1.2}
     scalars = (VARIABLE_H,)
-    has_derive = True
     outputs = (VARIABLE_H,)
 
     def initial(self, scene) -> np.ndarray:

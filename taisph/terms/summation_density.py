@@ -4,7 +4,7 @@
 
 An alternative to the continuity equation: density is computed, not evolved, so it
 cannot drift; but it is deficient near free surfaces and boundaries, where the kernel
-support is not full. By default only fluid neighbours count (``include_walls=True``
+support is not full. By default only fluid neighbours count (``walls=True``
 adds wall particles, for wall models whose particles carry a density). Runs as a
 neighbour pass before the force pass, then re-evaluates the equation of state.
 With a variable smoothing length (:mod:`taisph.terms.smoothing_length`) the sum uses
@@ -13,7 +13,6 @@ each particle's own h, rho_a = sum_b m_b W(r_ab, h_a).
 
 import taichi as ti
 
-from ..engine.layout import FLUID
 from .base import NeighbourPass, Term
 
 
@@ -21,13 +20,7 @@ from .base import NeighbourPass, Term
 class SummationDensity(Term):
     name = "summation_density"
 
-    def __init__(self, include_walls: bool = False):
-        super().__init__()
-        self.options = {"include_walls": bool(include_walls)}
-
-    @property
-    def wall_range(self):
-        return "support" if self.options["include_walls"] else None
+    takes_walls = True
 
     def passes(self):
         return [_DensitySum(self)]
@@ -35,6 +28,7 @@ class SummationDensity(Term):
     def check(self, scene):
         if any(t.integrates.get("density") for t in scene.terms):
             raise ValueError("summation_density and an evolved density (continuity) cannot both be used")
+        super().check(scene)
 
 
 @ti.data_oriented
@@ -52,7 +46,7 @@ class _DensitySum(NeighbourPass):
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, w, grad, acc: ti.template()):
-        if ti.static(self.t.options["include_walls"]) or s.Si[self.q.kind, j] == FLUID:
+        if self.t.sees(s, j):
             acc += s.Ss[self.q.mass, j] * w
 
     @ti.func

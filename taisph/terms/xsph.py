@@ -18,7 +18,6 @@ from .base import Term
 class XSPH(Term):
     name = "xsph"
     params = {"xsph_eps": 0.5}
-    has_pair = True
     wall_range = None  # fluid neighbours only
     has_shift = True
 

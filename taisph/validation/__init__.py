@@ -2,7 +2,11 @@
 
 :mod:`taisph.validation.runs` runs a case and measures its error against its reference;
 :mod:`taisph.validation.references` holds the references (analytic solutions, the exact
-Riemann solver, the Sedov-Taylor similarity solution, experimental data).
+Riemann solver, the Sedov-Taylor similarity solution, experimental data);
+:mod:`taisph.validation.accuracy_cost` is the work-precision study over them
+(``python tools/accuracy_cost.py``), and :mod:`taisph.validation.seed_scenes` the
+resolutions and recorder with which the seed's three scenes are measured (the tests
+and ``tools/seed_measure.py``).
 """
 
 from .runs import (VALIDATIONS, Outcome, couette, dam_break, elliptical_drop, hydrostatic_tank, poiseuille,

@@ -5,7 +5,7 @@ it, compares it with its reference and returns an :class:`Outcome`: one headline
 ``error`` (the number the accuracy study plots), all the metrics computed on the way,
 and the cost (steps, particles, wall seconds spent stepping, which excludes building
 the simulation and compiling its kernels). The references are analytic
-(:mod:`taisph.analytic`) or experimental (CSV files in ``taisph/data/`` with their
+(:mod:`taisph.analytic`) or experimental (CSV files in ``taisph/validation/references/data/`` with their
 sources in the headers). Tolerances and measured values: ``docs/validation.md``.
 
     >>> from taisph import validation
@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .references import analytic
+from ..engine.timestep import fixed_dt
 from ..simulation import Simulation
 
 DATA = Path(__file__).resolve().parent / "references" / "data"
@@ -59,7 +60,7 @@ class Outcome:
 
 
 def reference(name: str) -> tuple[np.ndarray, str]:
-    """An experimental data file of ``taisph/data`` as (columns array, header text)."""
+    """An experimental data file of ``references/data`` as (columns array, header text)."""
     path = DATA / name
     header, rows = [], []
     for line in path.read_text().splitlines():
@@ -71,18 +72,23 @@ def reference(name: str) -> tuple[np.ndarray, str]:
 
 
 class _Runner:
-    """Builds a simulation, runs it to sample times, accounts the stepping time."""
+    """Builds a simulation, runs it to sample times, accounts the stepping time.
+
+    Besides the case's parameters, `params` may hold ``dt_factor`` (a fixed step of that
+    many times the case's) and ``controls`` (a dict of :class:`taisph.Simulation`
+    controls, e.g. ``{"courant": 0.4}``)."""
 
     def __init__(self, case, params, precision):
         from .. import cases
 
         params = dict(params)
         dt_factor = params.pop("dt_factor", 1.0)
+        controls = params.pop("controls", None) or {}
         self.scene = getattr(cases, case)(**params)
         if dt_factor != 1.0:
-            self.scene.dt = (self.scene.dt or self.scene.stable_dt()) * dt_factor
+            self.scene.dt = (self.scene.dt or fixed_dt(self.scene)) * dt_factor
         start = time.perf_counter()
-        self.sim = Simulation(self.scene, precision=precision)
+        self.sim = Simulation(self.scene, precision=precision, **controls)
         self.setup = time.perf_counter() - start
         self.wall = 0.0
         self.diverged = False

@@ -11,18 +11,6 @@ import math
 import numpy as np
 
 
-# --- hydrostatics ---------------------------------------------------------------------
-def hydrostatic_pressure_tait(depth, rho0, c0, g=9.81, gamma=7.0):
-    """Exact equilibrium pressure of a Tait fluid at `depth` below a free surface where
-    p = 0: dp/dy = -rho(p) g gives
-
-        p = B [ (1 + (gamma-1)/gamma rho0 g depth / B)^(gamma/(gamma-1)) - 1 ],  B = rho0 c0^2/gamma.
-
-    It differs from rho0 g depth at order (g depth / c0^2)."""
-    b = rho0 * c0**2 / gamma
-    return b * ((1.0 + (gamma - 1.0) / gamma * rho0 * g * np.asarray(depth, float) / b) ** (gamma / (gamma - 1.0)) - 1.0)
-
-
 # --- start-up channel flows, Morris, Fox & Zhu (1997) ------------------------------------
 def poiseuille_startup(y, t, L, nu, F, terms=200):
     """Velocity u(y, t) of plane Poiseuille flow between no-slip walls at y = 0 and L,
@@ -76,7 +64,7 @@ def taylor_green(x, y, t, U=1.0, L=1.0, nu=0.01, rho=1.0):
 
 
 # --- elliptical drop -------------------------------------------------------------------------
-def elliptical_drop(t, R=1.0, A0=100.0, steps_per_unit=None):
+def elliptical_drop(t, R=1.0, A0=100.0):
     """Semi-axes (a, b) and strain rate A of an inviscid drop, initially a circle of
     radius R with velocity u = -A0 x, v = A0 y (Monaghan 1994 sec. 5; the ODE as in
     PySPH ``examples/elliptical_drop.py``):

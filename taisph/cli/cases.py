@@ -1,0 +1,86 @@
+"""The built-in cases as the command line sees them: the registry, each case's parameters
+(default and allowed range, declared in the case's file with
+:func:`taisph.parameters.checked`) and the one parser of ``--set NAME=VALUE``.
+
+Used by the case commands (:mod:`taisph.cli.main`) and by ``export``
+(:mod:`taisph.cli.dat`).
+"""
+
+from __future__ import annotations
+
+import inspect
+from dataclasses import dataclass
+
+from ..parameters import ParameterError, Range
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter of a case: its name, default and allowed range."""
+
+    name: str
+    default: object
+    range: Range
+
+
+def registry() -> dict:
+    """The built-in cases, name -> function returning a :class:`taisph.Scene`."""
+    import taisph
+
+    return taisph.cases.CASES
+
+
+def find(name: str):
+    """The case function called `name` (ParameterError listing the cases if none)."""
+    cases = registry()
+    if name not in cases:
+        raise ParameterError(f"unknown case {name!r}; cases: {', '.join(cases)}")
+    return cases[name]
+
+
+def parameters(case: str) -> dict[str, Parameter]:
+    """The parameters of case `case`, in signature order."""
+    func = find(case)
+    return {name: Parameter(name, p.default, func.ranges[name])
+            for name, p in inspect.signature(func).parameters.items()}
+
+
+def parse_setting(case: str, item: str) -> tuple[str, object]:
+    """``NAME=VALUE`` from ``--set`` as (name, value), the value parsed by the
+    parameter's range (a number, a word, true/false, none, or a comma-separated
+    tuple). The range itself is checked when the case is called."""
+    params = parameters(case)
+    key, sep, text = item.partition("=")
+    key = key.strip().replace("-", "_")
+    if not sep:
+        raise ParameterError(f"--set {item}: expected NAME=VALUE, e.g. --set {next(iter(params))}=...")
+    if key not in params:
+        raise ParameterError(f"--set {item}: {case} has no parameter {key!r}; its parameters: {', '.join(params)}")
+    try:
+        return key, params[key].range.parse(text.strip())
+    except ValueError as err:
+        raise ParameterError(f"--set {item}: {key} must be {params[key].range.describe()}; {err}") from None
+
+
+def case_arguments(case: str, settings=(), **options) -> dict:
+    """Keyword arguments for case `case`: the options given (e.g. dx, kernel; None
+    means not given), then each ``--set NAME=VALUE`` of `settings`."""
+    params = parameters(case)
+    kwargs = {}
+    for key, value in options.items():
+        if value is not None:
+            if key not in params:
+                raise ParameterError(f"case {case} has no parameter {key!r}; its parameters: {', '.join(params)}")
+            kwargs[key] = value
+    for item in settings:
+        key, value = parse_setting(case, item)
+        kwargs[key] = value
+    return kwargs
+
+
+def describe_parameters(case: str) -> str:
+    """One line per parameter: ``name = default    allowed range`` (for ``CASE --help``)."""
+    params = parameters(case).values()
+    left = [f"  {p.name} = {p.default!r}" for p in params]
+    width = max(len(s) for s in left) + 2
+    return "\n".join(f"{s:<{width}}{p.range.describe()}" for s, p in zip(left, params))

@@ -1,0 +1,111 @@
+"""Guards: checks of every fluid particle after its update, inside the force kernel.
+
+Cheap (a comparison per quantity; atomics only when something is wrong):
+
+- a non-finite position, velocity, density or acceleration;
+- density deviating from the material's rho0 by more than ``max_density_error`` (a
+  fraction; 0 disables; only for equations of state with a reference density);
+- a position outside the guard box: the scene's domain grown by one kernel support,
+  except along periodic axes and beyond the faces the scene leaves open
+  (``Scene.open_faces``, e.g. the open top of a tank: water may fly up and fall back).
+
+A tripped guard sets a bit in ``flags`` and records up to ``MAX_RECORDED`` particles;
+from then on every step has dt = 0 (the state stays as it was when the guard
+tripped, even if the host only looks a few steps later), and the host stops and
+explains (:mod:`taisph.engine.diagnosis`). With ``remove_escaped`` (a control, or the
+scene's default) a particle leaving the guard box is instead turned into an inactive particle (kind ``removed``: no
+forces, not written), and counted.
+"""
+
+import collections
+
+import numpy as np
+import taichi as ti
+
+from . import status as st
+from .layout import REMOVED
+
+PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
+    ("max_density_error", 1),
+    ("remove_escaped", 1),
+    ("guard_lo", "dim"),
+    ("guard_hi", "dim"),
+)
+OPEN = 1e30  # the guard position of an open face: never reached
+
+
+def removes_escaped(scene, controls) -> bool:
+    """Are particles leaving the domain removed (else a guard trips)? The controls
+    decide if they say, else the scene."""
+    return scene.remove_escaped if controls.remove_escaped is None else bool(controls.remove_escaped)
+
+
+def parameter_values(scene, controls) -> dict:
+    """Values of :data:`PARAMS` for `scene` and `controls`."""
+    lo, hi = scene.domain
+    margin = scene.support_radius
+    guard_lo, guard_hi = lo - margin, hi + margin
+    for face in scene.open_faces:
+        axis = "xyz".index(face[1])
+        if face[0] == "-":
+            guard_lo[axis] = -OPEN
+        else:
+            guard_hi[axis] = OPEN
+    return dict(
+        max_density_error=controls.max_density_error,
+        remove_escaped=1.0 if removes_escaped(scene, controls) else 0.0,
+        guard_lo=guard_lo,
+        guard_hi=guard_hi,
+    )
+
+
+@ti.data_oriented
+class Guards:
+    def __init__(self, dim, layout, param_rows, eos, periodic):
+        self.dim = dim
+        self.q = layout.q
+        self.p = collections.namedtuple("GuardRows", [n for n, _ in PARAMS])(*[param_rows[n] for n, _ in PARAMS])
+        self.eos = eos
+        self.periodic = tuple(periodic)
+        self.has_rho0 = hasattr(eos.m, "rho0")  # compile time: is there a reference density?
+
+    @ti.func
+    def check(self, s: ti.template(), i, rates: ti.template()):
+        """Check fluid particle i, just updated (in C)."""
+        q = ti.static(self.q)
+        p = ti.static(self.p)
+        x = s.Cv[q.position, i]
+        v = s.Cv[q.velocity, i]
+        rho = s.Cs[q.density, i]
+        code = 0
+        check = x.sum() + v.sum() + rho + rates.acc.norm_sqr()
+        if not (check - check == 0.0):  # NaN or inf anywhere
+            code |= st.NONFINITE
+        if ti.static(self.has_rho0):
+            max_error = s.params[p.max_density_error]
+            if max_error > 0.0:
+                error = ti.abs(rho / s.mat[s.Si[q.material, i], self.eos.m.rho0] - 1.0)
+                if error > max_error:
+                    code |= st.DENSITY
+        outside = False
+        for d in ti.static(range(self.dim)):
+            if ti.static(not self.periodic[d]):
+                if x[d] < s.params[p.guard_lo + d] or x[d] > s.params[p.guard_hi + d]:
+                    outside = True
+        if outside and code == 0 and s.params[p.remove_escaped] > 0.0:
+            s.Ci[q.kind, i] = REMOVED
+            ti.atomic_add(s.flags[st.REMOVED_COUNT], 1)
+        elif outside:
+            code |= st.ESCAPED
+        if code != 0 and s.status[st.FROZEN] == 0.0:
+            ti.atomic_or(s.flags[st.CODES], code)
+            k = ti.atomic_add(s.flags[st.COUNT], 1)
+            if k < st.MAX_RECORDED:
+                s.flags[st.RECORDS + 2 * k] = s.Si[q.id, i]
+                s.flags[st.RECORDS + 2 * k + 1] = code
+
+
+def recorded(flags: np.ndarray) -> np.ndarray:
+    """(id, code) rows of the offending particles recorded in a ``flags`` array."""
+    count = min(int(flags[st.COUNT]), st.MAX_RECORDED)
+    return flags[st.RECORDS : st.RECORDS + 2 * count].reshape(-1, 2)

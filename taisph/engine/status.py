@@ -1,0 +1,39 @@
+"""The device-side status of a simulation: two small arrays the step kernels update.
+
+Time, step count and the dt history live on the device, so stepping needs no host
+round trip; the host reads them every few steps (:class:`taisph.engine.state.State`).
+
+``status`` (f64, whatever the state's precision: time must not be f32):
+"""
+
+# clock and time step (taisph.engine.timestep)
+TIME = 0  # simulated time (s)
+DT = 1  # this step's dt
+MAX_ACC2 = 2  # largest |a|^2 over fluid particles of the last rate evaluation
+MAX_SIGNAL = 3  # largest c + |v| over fluid particles of the last rate evaluation
+DT_MIN = 4  # smallest, largest and sum of the dt taken (run statistics)
+DT_MAX = 5
+DT_SUM = 6
+STEPS = 7  # steps taken
+DT_STABLE_MIN = 8  # smallest stability limit met so far (a fixed dt above it warns)
+DT_STABLE = 9  # this step's stability limit
+FROZEN = 10  # 1 once a guard tripped: every later step has dt = 0
+# neighbour lists (taisph.engine.neighbours): largest squared displacement from the
+# positions the lists were built at, this step's rebuild decision, a host request to
+# rebuild (state changed from outside), and the number of rebuilds so far
+MAX_DISP2 = 11
+REBUILD = 12
+FORCE_REBUILD = 13
+REBUILDS = 14
+STATUS_SIZE = 16
+
+# ``flags`` (i32): guard failures (taisph.engine.guards) and removed particles
+CODES = 0  # OR of the failure bits below
+COUNT = 1  # particles that tripped a guard
+REMOVED_COUNT = 2  # particles removed (left the domain with remove_escaped)
+RECORDS = 3  # (id, code) pairs of the first MAX_RECORDED offending particles from here
+MAX_RECORDED = 16
+FLAGS_SIZE = RECORDS + 2 * MAX_RECORDED
+
+NONFINITE, DENSITY, ESCAPED = 1, 2, 4
+CODE_NAMES = {NONFINITE: "non-finite state", DENSITY: "density error", ESCAPED: "left the domain"}
