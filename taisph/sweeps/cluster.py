@@ -59,8 +59,13 @@ def connect(client=None, workers: int | None = None, scheduler: str | None = Non
     workers = workers or default_workers(tasks)
     if workers < 1:
         raise SweepError(f"workers must be at least 1, got {workers}")
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR, env={"ENABLE_TAICHI_HEADER_PRINT": "0"})  # no banners
+    import dask
+
+    # no Taichi banner per worker: set before each worker process starts, as it may import
+    # taichi while it loads the starting script (python tools/accuracy_cost.py)
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.ENABLE_TAICHI_HEADER_PRINT": "0"}):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
     with cluster, Client(cluster) as own:
         yield own, max(1, (os.cpu_count() or 1) // workers)
 
