@@ -41,4 +41,15 @@ def _load_cases():
 
 cases = _load_cases()
 
+
+def __getattr__(name):
+    """``taisph.sweep`` on first use: it imports Dask, which is slow to import and an
+    optional dependency (``pip install 'taisph[sweep]'``)."""
+    if name == "sweep":
+        from .sweeps import sweep
+
+        return sweep
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 __all__ = ["Simulation", "Scene", "Material", "Gas", "RunSummary", "cases", "FLUID", "WALL"]

@@ -126,6 +126,17 @@ def test_dam_break_front_and_column_height():
     assert dummy.metrics["ko_mean_signed"] > 0
 
 
+def test_dam_break_short_run_uses_the_reference_points_it_reaches():
+    """T_end = 0.6 (before Martin & Moyce's first column height, tau = 0.56 i.e. T = 0.79;
+    after their first front point, T = 0.41): the errors are computed over the points
+    that exist up to T_end, the column height's are NaN (it crashed on the empty slice)."""
+    out = validation.dam_break(dx=0.1, T_end=0.6)
+    assert np.isfinite(out.error) and out.error == out.metrics["ko_mean_abs"]
+    assert np.isfinite(out.metrics["mm_mean_abs"]) and np.isfinite(out.metrics["mm_max_abs"])
+    assert np.isnan(out.metrics["height_mean_abs"]) and np.isnan(out.metrics["height_max_abs"])
+    assert "T <= 0.6" in out.error_name
+
+
 # --- long versions ------------------------------------------------------------------------------------------
 @pytest.mark.slow
 def test_dam_break_at_reference_resolution():

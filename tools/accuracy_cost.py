@@ -3,15 +3,17 @@
     python tools/accuracy_cost.py                  # full study (< 30 min on 2 cores), writes docs/accuracy/
     python tools/accuracy_cost.py --quick --out /tmp/study   # CI: dam_break and poiseuille, small sizes
     python tools/accuracy_cost.py --cases poiseuille couette --out /tmp/study
+    python tools/accuracy_cost.py --workers 2                  # two runs at a time on this machine
+    python tools/accuracy_cost.py --scheduler tcp://host:8786   # spread over a Dask cluster (docs/sweeps.md)
 
 The study itself (cases, configurations, resolutions, the CSV, table and plots it
-writes) is :mod:`taisph.validation.accuracy_cost`; this is its command line.
+writes; its runs are tasks of taisph's sweeps on Dask) is
+:mod:`taisph.validation.accuracy_cost`; this is its command line.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
@@ -29,13 +31,18 @@ def main(argv=None):
                    help="cases to run (default: all; --quick: dam_break, poiseuille)")
     p.add_argument("--out", default=str(ROOT / "docs" / "accuracy"), help="output folder (default docs/accuracy)")
     p.add_argument("--repeat", type=int, default=1, help="runs per point; the median wall time is reported")
-    p.add_argument("--threads", type=int, default=None, help="Taichi CPU threads (default: all cores)")
+    p.add_argument("--threads", type=int, default=None,
+                   help="Taichi CPU threads per run (default: cores / workers; 1 with --scheduler)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=1,
+                       help="runs at a time, each in a worker process of a local Dask cluster (default 1)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on an existing Dask cluster (dask scheduler / dask worker), e.g. tcp://host:8786")
     args = p.parse_args(argv)
 
-    if args.threads:
-        os.environ["TAISPH_THREADS"] = str(args.threads)
     command = "python tools/accuracy_cost.py" + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip()
-    return accuracy_cost.run_study(args.out, cases=args.cases, quick=args.quick, repeat=args.repeat, command=command)
+    return accuracy_cost.run_study(args.out, cases=args.cases, quick=args.quick, repeat=args.repeat, command=command,
+                                   workers=args.workers, scheduler=args.scheduler, threads=args.threads)
 
 
 if __name__ == "__main__":

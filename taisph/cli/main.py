@@ -1,5 +1,6 @@
 """Command line: ``python -m taisph CASE [options]``, ``list`` and ``resume``; the seed's
-``run`` and ``export`` commands are in :mod:`taisph.cli.dat`."""
+``run`` and ``export`` commands are in :mod:`taisph.cli.dat`, ``sweep`` in
+:mod:`taisph.cli.sweep`."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
 python -m taisph CASE --help        the case's description and parameters
 python -m taisph list               list the built-in cases
 python -m taisph resume DIR         continue a run from its checkpoint folder
+python -m taisph sweep CASE --vary NAME=v1,v2 --out DIR   runs of every combination on a Dask cluster (sweep --help)
 python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL   the seed's files (run --help)
 python -m taisph export CASE --dat DIR    a case as the seed's files (export --help)"""
 
@@ -110,6 +112,10 @@ def main(argv=None) -> int:
         return 0
     if command == "resume":
         return resume(argv[1:])
+    if command == "sweep":  # parameter sweeps on a Dask cluster: taisph/cli/sweep.py
+        from .sweep import main as sweep_main
+
+        return sweep_main(argv[1:])
     if command.endswith(".toml"):  # a scene file: taisph/scenefile.py
         from ..scenefile_build import main as run_scene_file
 
@@ -120,7 +126,7 @@ def main(argv=None) -> int:
         return (dat.run_main if command == "run" else dat.export_main)(argv[1:])
     if command not in cases.registry():
         print(f"taisph: unknown case or command {command!r}. Cases: {', '.join(cases.registry())}; "
-              "commands: list, run, export, resume", file=sys.stderr)
+              "commands: list, run, export, resume, sweep", file=sys.stderr)
         return 2
     return _guarded(run_case, command, argv)
 

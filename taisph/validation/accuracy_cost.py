@@ -14,9 +14,15 @@ particle-steps per second. It writes, in the output folder,
     wp_<case>.png          work-precision plot: error against wall time, log-log,
                            one line per configuration, one point per resolution
 
-Runs are grouped by precision (Taichi's precision is process-wide). Each wall time is
-one run (``repeat`` N takes the median of N): on a shared 2-core machine timings vary
-by up to 2x, so read differences below ~30 % as noise. The command line is
+Every run is a task of taisph's sweeps (:mod:`taisph.sweeps`) in a Dask worker process:
+by default one local worker, so runs go one at a time on all cores as they always did;
+``workers`` N runs N at a time, ``scheduler`` (an address) spreads them over an
+existing cluster (``docs/sweeps.md``). ``setup_s`` is the sweep's compile time:
+building a simulation until its first step is done (kernels compile once per worker
+process and configuration). Runs are grouped by precision (Taichi's precision is
+process-wide). Each wall time is one run (``repeat`` N takes the median of N): on a
+shared 2-core machine timings vary by up to 2x, so read differences below ~30 % as
+noise. The command line is
 ``python tools/accuracy_cost.py`` (docs/accuracy.md); ``quick=True`` is its CI mode,
 which tests/test_accuracy_study.py runs.
 """
@@ -34,8 +40,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-from . import runs as validation
 
 ROOT = Path(__file__).resolve().parents[2]  # the source checkout, if taisph runs from one (git_commit)
 F64, F32 = "f64", "f32"
@@ -145,19 +149,36 @@ def plan(cases, quick):
     return runs
 
 
-def execute(run, repeat):
-    walls = []
-    out = None
-    for _ in range(repeat):
-        out = validation.run(run["case"], precision=run["precision"], **run["params"])
-        walls.append(out.wall)
-    wall = statistics.median(walls)
+def tasks_of(runs, repeat):
+    """The study's runs as sweep tasks (validation runs), `repeat` tasks per run."""
+    from ..sweeps import Task
+
+    return [Task(run["case"], f"{run['case']} {run['config']} dx={run['dx']:g} #{k}", dict(run["params"]),
+                 {"precision": run["precision"]}, validate=True, tag=(index, k))
+            for index, run in enumerate(runs) for k in range(repeat)]
+
+
+def row_of(run, results):
+    """The table row of `run` from its repeats' results (sweep results,
+    :func:`taisph.sweeps.worker.run_task`): the median wall time; a run that failed
+    (not diverged: that is an error of inf) is a row with its failure."""
+    out = results[-1]
+    failed = [r for r in results if r["status"] != "ok" and not r["diverged"]]
+    if failed:
+        return dict(case=run["case"], config=run["config"], precision=run["precision"], dx=run["dx"],
+                    fluid_particles=0, particles=0, steps=0, dt=float("nan"), wall_s=float("nan"),
+                    setup_s=float("nan"), particle_steps_per_s=float("nan"), error=float("nan"), error_name="",
+                    diverged=False, params=json.dumps(run["params"], sort_keys=True), metrics="{}",
+                    failure=failed[0]["failure"])
+    wall = statistics.median(r["wall_s"] for r in results)
     return dict(
-        case=run["case"], config=run["config"], precision=out.precision, dx=run["dx"], fluid_particles=out.fluid,
-        particles=out.particles, steps=out.steps, dt=out.dt, wall_s=wall, setup_s=out.setup,
-        particle_steps_per_s=out.fluid * out.steps / wall if wall > 0 else float("nan"), error=out.error,
-        error_name=out.error_name, diverged=out.diverged, params=json.dumps(run["params"], sort_keys=True),
-        metrics=json.dumps(out.metrics, sort_keys=True), failure="",
+        case=run["case"], config=run["config"], precision=out["precision"], dx=run["dx"],
+        fluid_particles=out["fluid_particles"], particles=out["particles"], steps=out["steps"], dt=out["dt"],
+        wall_s=wall, setup_s=out["compile_s"],
+        particle_steps_per_s=out["fluid_particles"] * out["steps"] / wall if wall > 0 else float("nan"),
+        error=out["error"], error_name=out["error_name"], diverged=out["diverged"],
+        params=json.dumps(run["params"], sort_keys=True), metrics=json.dumps(out["metrics"], sort_keys=True),
+        failure="",
     )
 
 
@@ -242,13 +263,19 @@ def git_commit():
 
 
 def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
-              command: str = "taisph.validation.accuracy_cost.run_study") -> list[dict]:
+              command: str = "taisph.validation.accuracy_cost.run_study", workers: int = 1,
+              scheduler: str | None = None, threads: int | None = None, client=None) -> list[dict]:
     """Run the study of `cases` (default: all; with `quick`: dam_break and poiseuille,
     two configurations each, small sizes), write its CSV, table and plots in folder
     `out`, print one line per run, and return the rows. `command` is how the study was
-    started, for the table's header. A run that fails is a row with its failure."""
+    started, for the table's header. A run that fails is a row with its failure.
+
+    The runs are sweep tasks (:func:`taisph.sweeps.cluster.run_tasks`): on `client`
+    (a ``distributed.Client``), else on the cluster at `scheduler`, else on a
+    LocalCluster of `workers` processes. `threads`: CPU threads per run (default:
+    cores / workers on a LocalCluster, 1 on an existing cluster)."""
     import taisph
-    from ..engine import runtime
+    from ..sweeps.cluster import connect, run_tasks
 
     cases = list(cases or (QUICK_CASES if quick else STUDY))
     folder = Path(out)
@@ -257,21 +284,24 @@ def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
     print(f"{len(runs)} runs: {', '.join(cases)}", flush=True)
     load_start = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     start = time.perf_counter()
-    rows = []
-    for k, run in enumerate(runs, 1):
-        t0 = time.perf_counter()
-        try:
-            row = execute(run, repeat)
-        except Exception as err:  # keep going: a failed configuration is a result too
-            row = dict(case=run["case"], config=run["config"], precision=run["precision"], dx=run["dx"],
-                       fluid_particles=0, particles=0, steps=0, dt=float("nan"), wall_s=float("nan"),
-                       setup_s=float("nan"), particle_steps_per_s=float("nan"), error=float("nan"), error_name="",
-                       diverged=False, params=json.dumps(run["params"], sort_keys=True), metrics="{}",
-                       failure=f"{type(err).__name__}: {err}")
+    rows, results, used_threads = [], {}, set()
+    tasks = tasks_of(runs, repeat)
+
+    def finished(task, result):  # a run's last repeat finishing makes its row
+        index, _ = task.tag
+        results.setdefault(index, []).append(result)
+        if result["threads"] is not None:
+            used_threads.add(result["threads"])
+        if len(results[index]) < repeat:
+            return
+        row = row_of(runs[index], results[index])
         rows.append(row)
-        print(f"[{k}/{len(runs)}] {row['case']:16s} {row['config']:44s} dx={row['dx']:<8.4g} "
-              f"error={fmt(row['error'])} wall={fmt(row['wall_s'])} s ({time.perf_counter() - t0:.1f} s) "
+        print(f"[{len(rows)}/{len(runs)}] {row['case']:16s} {row['config']:44s} dx={row['dx']:<8.4g} "
+              f"error={fmt(row['error'])} wall={fmt(row['wall_s'])} s (compile {fmt(row['setup_s'])} s) "
               f"{row['failure']}", flush=True)
+
+    with connect(client, workers=workers, scheduler=scheduler, tasks=len(tasks)) as (dask_client, default_threads):
+        run_tasks(tasks, dask_client, threads or default_threads, on_result=finished)
     total = time.perf_counter() - start
     load_end = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     # table order: per case, configurations and resolutions as listed in STUDY (the f32 runs
@@ -295,7 +325,8 @@ def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
     header = (f"# Accuracy and cost\n\nMade by `{command}` in {total / 60:.1f} min "
               f"(taisph {taisph.__version__} at commit {git_commit()}, taichi {taichi_version}, "
               f"Python {platform.python_version()}, {os.cpu_count()} cores, "
-              f"{runtime.current().threads} thread(s)). Wall time: stepping only, "
+              f"{'/'.join(map(str, sorted(used_threads))) or '?'} thread(s) per run, "
+              f"{'cluster' if scheduler or client else workers} run(s) at a time). Wall time: stepping only, "
               f"{'median of %d runs' % repeat if repeat > 1 else 'one run'} per point, on a shared machine "
               f"(1-minute load average {load_start:.1f} at the start, {load_end:.1f} at the end, on "
               f"{os.cpu_count()} cores: other jobs shared the machine; differences below ~30 % are noise). "

@@ -1,0 +1,131 @@
+"""``python -m taisph sweep CASE --vary NAME=v1,v2,... --out DIR``: a parameter sweep
+on a Dask cluster (:func:`taisph.sweeps.sweep`; docs/sweeps.md)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .parser import Parser
+
+EPILOG = """\
+Each combination of the --vary values is one run in a Dask worker process: by default a
+LocalCluster of --workers processes started here (one per core, each run using its share
+of the cores), or an existing cluster with --scheduler tcp://host:port (started with
+`dask scheduler` and `dask worker tcp://host:port --nworkers N --nthreads 1`).
+
+Names: any case parameter (CASE --help), the run settings precision, threads, dt (a value
+or none), neighbour_skin, max_density_error, deterministic, remove_escaped and, for
+validation runs, the validation's keywords (dt_factor, T_end, samples, ...).
+
+A case with a reference (dam_break, hydrostatic_tank, poiseuille, couette, taylor_green,
+elliptical_drop) runs its validation: the error column is measured against the reference.
+--no-validate makes plain runs to the scene's t_end instead.
+
+DIR/sweep.csv and DIR/sweep.md get a row as each run finishes; run again with the same
+options to resume (done combinations are skipped).
+
+examples:
+  python -m taisph sweep hydrostatic_tank --vary dx=0.1,0.05 --vary kernel=spline,wendland --t-end 0.5 --out sweeps/tank
+  python -m taisph sweep dam_break --vary dx=0.1,0.05 --set T_end=1 --workers 2 --out sweeps/db
+  python -m taisph sweep dam_break --no-validate --vary dt=1e-4,2e-3 --dx 0.1 --t-end 0.2 --out sweeps/dt
+  python -m taisph sweep poiseuille --vary dx=1e-4,5e-5 --scheduler tcp://10.0.0.5:8786 --out sweeps/p"""
+
+
+def build_parser() -> Parser:
+    """The sweep's options (a :class:`taisph.cli.parser.Parser`: bad usage raises
+    UsageError, printed by :func:`main` with exit code 2)."""
+    parser = Parser(prog="python -m taisph sweep", description=__doc__.splitlines()[0][:-1] + ".",
+                                     epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("case", help="case name (python -m taisph list)")
+    parser.add_argument("--vary", action="append", default=[], metavar="NAME=v1,v2,...",
+                        help="values of one parameter or setting; repeatable: the runs are the product")
+    g = parser.add_argument_group("every run (as for a single run: python -m taisph CASE --help)")
+    g.add_argument("--dx", help="particle spacing (m)")
+    g.add_argument("--t-end", help="simulated end time (s)")
+    g.add_argument("--frames", help="frames of each run (they fix the times steps land on; "
+                                    "written only with --frames-per-run)")
+    g.add_argument("--integrator", help="time integrator")
+    g.add_argument("--kernel", help="smoothing kernel")
+    g.add_argument("--dt", help="fixed time step (s); default: adaptive")
+    g.add_argument("--precision", help="f32 or f64 (default f64)")
+    g.add_argument("--neighbour-skin", help="neighbour list skin (default 0: no lists)")
+    g.add_argument("--max-density-error", help="guard: stop when |rho/rho0 - 1| exceeds this (default 0.2)")
+    g.add_argument("--deterministic", action="store_true", help="bit-for-bit reproducible runs")
+    g.add_argument("--remove-escaped", action="store_true", help="remove particles that leave the domain")
+    g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="any case parameter; repeatable")
+    g.add_argument("--no-validate", action="store_true",
+                   help="plain runs to t_end even when the case has a reference (no error column)")
+    g = parser.add_argument_group("cluster and output")
+    where = g.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, help="worker processes of the LocalCluster (default: one per core)")
+    where.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask cluster, e.g. tcp://host:8786")
+    g.add_argument("--threads", help="CPU threads per run (default: cores / workers; 1 on an existing cluster)")
+    g.add_argument("--out", type=Path, required=True, help="folder of sweep.csv and sweep.md (and frames)")
+    g.add_argument("--frames-per-run", action="store_true", help="write each run's frames to DIR/<run name>/")
+    g.add_argument("--retry-failed", action="store_true", help="on resume, run the failed combinations again")
+    g.add_argument("--no-progress", action="store_true", help="no progress bar")
+    return parser
+
+
+def fixed_values(args) -> dict:
+    """The values every run shares: the options as text (parsed by the sweep against
+    the case), ``--set`` of a case parameter parsed as the case command parses it
+    (:func:`taisph.cli.cases.parse_setting`), ``--set`` of a run setting or validation
+    keyword as text."""
+    from . import cases
+
+    fixed = {}
+    for option in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "precision", "neighbour_skin",
+                   "max_density_error", "threads"):
+        if getattr(args, option) is not None:
+            fixed[option] = getattr(args, option)
+    for flag in ("deterministic", "remove_escaped"):
+        if getattr(args, flag):
+            fixed[flag] = True
+    parameters = cases.parameters(args.case)
+    for item in args.set:
+        name, sep, value = item.partition("=")
+        name = name.strip().replace("-", "_")
+        if not sep or not name:
+            raise ValueError(f"--set expects NAME=VALUE, got {item!r}")
+        if name in fixed:
+            raise ValueError(f"{name} is given twice")
+        fixed[name] = cases.parse_setting(args.case, item)[1] if name in parameters else value.strip()
+    return fixed
+
+
+def main(argv) -> int:
+    from ..sweeps import SweepError, plan, sweep
+
+    try:
+        args = build_parser().parse_args(argv)
+        before = _table_runs(args.out, args.retry_failed)
+        vary = plan.parse_vary(args.vary)
+        fixed = fixed_values(args)
+        rows = sweep(args.case, vary, out=args.out, workers=args.workers, scheduler=args.scheduler,
+                     validate=False if args.no_validate else None, frames_per_run=args.frames_per_run,
+                     retry_failed=args.retry_failed, progress=not args.no_progress, **fixed)
+    except (SweepError, ValueError) as err:
+        print(f"taisph sweep: error: {err}", file=sys.stderr)
+        return 2
+    failed = sum(row["status"] != "ok" for row in rows)
+    kept = sum(row["run"] in before for row in rows)
+    print((args.out / "sweep.md").read_text(), end="")
+    print(f"\n{len(rows)} runs: {len(rows) - failed} ok, {failed} failed"
+          + (f" ({kept} already in the table, not run again)" if kept else "")
+          + f"; table in {args.out / 'sweep.csv'}")
+    return 0
+
+
+def _table_runs(folder: Path, retry_failed: bool) -> set:
+    """Names of the runs an earlier sweep into `folder` left in its table (that a
+    rerun keeps: with --retry-failed, the ok ones only)."""
+    import csv
+
+    path = folder / "sweep.csv"
+    if not path.exists():
+        return set()
+    with open(path, newline="") as f:
+        return {row["run"] for row in csv.DictReader(f) if not retry_failed or row.get("status") == "ok"}
