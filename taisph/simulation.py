@@ -56,6 +56,7 @@ class Simulation:
         self.controls = Controls(**controls)
         self.serial_sort = self.n < SERIAL_SORT_BELOW or self.controls.deterministic
         self._graph_args = None
+        self._step_writers, self._launched = (), 0  # writers called every k steps (run)
         self._warned_dt = False
         self._snapshot_key = None
         self.time, self.steps, self._dt_last, self._dt_stable = 0.0, 0, 0.0, math.inf
@@ -173,6 +174,10 @@ class Simulation:
             before = self.time
             for _ in range(n):
                 self._advance_one(t_target)
+                self._launched += 1
+                for writer in self._step_writers:
+                    if self._launched % writer.every == 0:
+                        writer.on_steps(self)
             self._read_status()
             done += n
             if self._fail_codes:
@@ -223,7 +228,9 @@ class Simulation:
         are called: the ParaView frames (if `out`), `callback(sim)`, a checkpoint to
         ``out/checkpoint`` every `checkpoint_every` frames
         (:func:`taisph.io.checkpoint.save`), and any further `writers` (objects with
-        ``on_start(sim)`` and ``on_frame(sim, k)``). A tripped guard raises
+        ``on_start(sim)`` and ``on_frame(sim, k)``; one with an ``every`` attribute also
+        gets ``on_steps(sim)`` after every `every` steps, e.g. probes, which read the
+        clock with :meth:`device_time`). A tripped guard raises
         :class:`SimulationError` after writing the last good state and the offending
         particles to `out`.
         """
@@ -243,6 +250,7 @@ class Simulation:
             run_writers.append(CheckpointWriter(Path(out) / "checkpoint", checkpoint_every, t_end, frames,
                                                 frame_writer))
         run_writers += list(writers)
+        self._step_writers = [w for w in run_writers if getattr(w, "every", None)]
         frames0 = frame_writer.frame if frame_writer else 0
         for writer in run_writers:
             writer.on_start(self)
@@ -259,6 +267,7 @@ class Simulation:
                     writer.on_frame(self, k)
                 if callback is not None:
                     callback(self)
+        self._step_writers = ()
         ti.sync()
         wall = _time.perf_counter() - start
         steps = self.steps - steps0
@@ -272,6 +281,11 @@ class Simulation:
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
                           float(masses[kinds == FLUID].sum()), float(masses[kinds == REMOVED].sum()))
+
+    def device_time(self) -> float:
+        """The simulated time on the device now (``time`` is the host's copy, refreshed
+        between batches of steps)."""
+        return self.state.read(st.TIME)
 
     # --- guards and checkpoints ---------------------------------------------------------
     def _fail(self):

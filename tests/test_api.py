@@ -76,3 +76,29 @@ def test_closed_simulation_allows_new_precision():
     with pytest.raises(runtime.RuntimeConflict):
         taisph.Simulation(taisph.cases.dam_break(dx=0.2), precision=other)
     sim.close()
+
+
+def test_step_writers_are_called_every_k_steps():
+    """A run writer with ``every = 3`` gets on_steps after every third step (device time
+    increasing), on_start once and on_frame at each output time, in that order."""
+    calls = []
+
+    class Recorder:
+        every = 3
+
+        def on_start(self, sim):
+            calls.append(("start", sim.steps))
+
+        def on_steps(self, sim):
+            calls.append(("steps", sim.device_time()))
+
+        def on_frame(self, sim, k):
+            calls.append(("frame", sim.steps))
+
+    sim = taisph.Simulation(taisph.cases.hydrostatic_tank(dx=0.1), dt=1e-3)
+    sim.run(0.02, frames=2, writers=[Recorder()])
+    sim.close()
+    kinds = [c[0] for c in calls]
+    assert kinds[0] == "start" and kinds.count("frame") == 2 and kinds.count("steps") == 20 // 3
+    times = [c[1] for c in calls if c[0] == "steps"]
+    assert times == pytest.approx([3e-3 * (k + 1) for k in range(6)], rel=1e-9)

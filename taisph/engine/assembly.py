@@ -23,7 +23,7 @@ from .layout import Layout
 
 
 class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill "
-                                          "params mat gshape status flags x_ref nlist ncount aux")):
+                                          "params mat gshape status flags x_ref nlist ncount aux_int aux_real")):
     """The arguments of every kernel, in this order (then ``t_target``, the time the
     step must not pass; f64). Inside kernels ``s.<name>``:
 
@@ -34,7 +34,7 @@ class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count 
     gshape         grid shape (n0, n1, n2, n_cells)
     status, flags  device clock, dt history and guard flags (:mod:`.status`)
     x_ref, nlist, ncount   neighbour lists (a dummy row without lists; :mod:`.neighbours`)
-    aux            output of auxiliary kernels (neighbour pairs for tests); a dummy in a step
+    aux_int, aux_real   outputs of auxiliary kernels (neighbour pairs, probes); dummies in a step
     """
 
 
@@ -184,9 +184,9 @@ class Solver:
         @ti.kernel
         def kernel(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1, cell_start: I1,
                    cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, x_ref: V1, nlist: I,
-                   ncount: I1, aux: I, t_target: ti.f64):
+                   ncount: I1, aux_int: I, aux_real: S, t_target: ti.f64):
             s = ti.static(Args(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat,
-                               gshape, status, flags, x_ref, nlist, ncount, aux))
+                               gshape, status, flags, x_ref, nlist, ncount, aux_int, aux_real))
             body(s, t_target)
 
         return kernel

@@ -267,14 +267,14 @@ class _CountPairs:
 class _ListPairs(_CountPairs):
     @ti.func
     def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
-        s.aux[i, acc] = s.Si[self.q.id, j]
+        s.aux_int[i, acc] = s.Si[self.q.id, j]
         acc += 1
 
 
 def pairs_body(solver, fill: bool):
     """For tests of the neighbour search: the neighbours the sums visit, for every
-    particle of ``S``; their number into ``aux[i, 0]`` (`fill` False) or their ids into
-    ``aux[i, :]`` (`fill` True)."""
+    particle of ``S``; their number into ``aux_int[i, 0]`` (`fill` False) or their ids
+    into ``aux_int[i, :]`` (`fill` True)."""
     q = solver.layout.q
     grid = solver.grid
     p_support2 = solver.param_rows["support2"]
@@ -286,6 +286,6 @@ def pairs_body(solver, fill: bool):
             k = 0
             grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], visitor, k)
             if ti.static(not fill):
-                s.aux[i, 0] = k
+                s.aux_int[i, 0] = k
 
     return body

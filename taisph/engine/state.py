@@ -45,7 +45,8 @@ class State:
         self.nlist = ti.ndarray(ti.i32, (rows, self.list_capacity))
         self.ncount = ti.ndarray(ti.i32, rows)
         self.ncount.fill(-1)
-        self.aux = ti.ndarray(ti.i32, (1, 1))  # output of auxiliary kernels; unused by a step
+        # outputs of auxiliary kernels (run_auxiliary); dummies in a step
+        self.aux_int, self.aux_real = ti.ndarray(ti.i32, (1, 1)), ti.ndarray(rt.real, (1, 1))
         self.good = None  # copy of the last state that passed the guards (keep_good)
         self.good_time = self.good_steps = 0
         self.good_dt_stable = float("inf")
@@ -54,7 +55,7 @@ class State:
     def args(self, current=None) -> Args:
         """The kernel arguments; `current`: other buffers in place of C."""
         return Args(*(current or self.C), *self.S, self.cell_of, *self.cells, self.params, self.mat, self.gshape,
-                    self.status, self.flags, self.x_ref, self.nlist, self.ncount, self.aux)
+                    self.status, self.flags, self.x_ref, self.nlist, self.ncount, self.aux_int, self.aux_real)
 
     # --- upload -----------------------------------------------------------------------
     def upload_particles(self, scene):
@@ -183,22 +184,27 @@ class State:
         # the maxima, the lists and the cells they refer to as they were.
         kept = [(a, a.to_numpy()) for a in (self.status, self.x_ref, self.nlist, self.ncount, *self.cells)]
         sort(*self.args(), time)  # sorts S by cell
-        dummy = self.aux
         try:
-            self.aux = ti.ndarray(ti.i32, (self.n, 1))
-            count(*self.args(), time)
-            counts = self.aux.to_numpy()[:, 0]
-            self.aux = ti.ndarray(ti.i32, (self.n, max(1, int(counts.max(initial=0)))))
-            fill(*self.args(), time)
-            table = self.aux.to_numpy()
+            counts = self.run_auxiliary(count, time, aux_int=(self.n, 1))[0][:, 0]
+            table = self.run_auxiliary(fill, time, aux_int=(self.n, max(1, int(counts.max(initial=0)))))[0]
         finally:
-            self.aux = dummy
             for array, values in kept:
                 array.from_numpy(values)
         ids = self.S[2].to_numpy()[self.solver.layout.q.id]
         rows = np.repeat(np.arange(self.n), counts)
         cols = np.arange(len(rows)) - np.repeat(np.cumsum(counts) - counts, counts)  # k-th neighbour of its row
         return np.stack([ids[rows], table[rows, cols]], axis=1).astype(np.int32)
+
+    def run_auxiliary(self, kernel, time: float, aux_int=(1, 1), aux_real=(1, 1)):
+        """Run an auxiliary kernel (one of the solver's, with the step signature) into
+        fresh output arrays of the given shapes; returns them as numpy (int, real)."""
+        dummies = self.aux_int, self.aux_real
+        try:
+            self.aux_int, self.aux_real = ti.ndarray(ti.i32, aux_int), ti.ndarray(self.runtime.real, aux_real)
+            kernel(*self.args(), time)
+            return self.aux_int.to_numpy(), self.aux_real.to_numpy()
+        finally:
+            self.aux_int, self.aux_real = dummies
 
     def free(self):
         """Free the Taichi arrays now (vector ndarrays leak otherwise: taichi#8763)."""
