@@ -55,12 +55,12 @@ class Simulation:
         controls.setdefault("dt", scene.dt)
         self.controls = Controls(**controls)
         self.serial_sort = self.n < SERIAL_SORT_BELOW or self.controls.deterministic
-        self._graph_args = None
         self._step_writers, self._launched = (), 0  # writers called every k steps (run)
         self._warned_dt = False
         self._snapshot_key = None
         self.time, self.steps, self._dt_last, self._dt_stable = 0.0, 0, 0.0, math.inf
-        self.state = State(scene, self.solver, self.runtime)
+        grid = _restore[1] if _restore is not None else None
+        self.state = State(scene, self.solver, self.runtime, grid)
         runtime.register(self)
         if _restore is not None:
             arrays, grid, self.serial_sort = _restore
@@ -68,14 +68,13 @@ class Simulation:
             self.state.restore(arrays)
         else:
             self.state.upload_particles(scene)
-            self._setup_grid()
+            self._setup_grid(self.state.grid)
             self.state.reset_status()
             self._advance_one(self.time)  # bootstrap (dt = 0): pressure, first rates, maxima
         self._read_status()
 
     def _setup_grid(self, grid=None):
         self.state.setup_grid(self.scene, grid)
-        self._graph_args = None  # arrays changed: rebind the step graph
         self._upload_parameters()
 
     def _upload_parameters(self, dt=None):
@@ -87,7 +86,6 @@ class Simulation:
         if getattr(self, "state", None) is not None:
             self.state.free()
         self.state = None
-        self._graph_args = None
         runtime.unregister(self)
 
     def __del__(self):
@@ -124,17 +122,8 @@ class Simulation:
     # --- stepping -----------------------------------------------------------------
     def _advance_one(self, t_target: float):
         """One step towards `t_target` (its dt is chosen on the device)."""
-        if self._graph_args is None:
-            args = self.state.args()
-            self._graph = self.solver.step_graph(self.serial_sort, args)
-            self._graph_args = dict(zip(assembly.Args._fields, args))
-        if self._graph is not None:
-            self._graph_args["t_target"] = float(t_target)
-            self._graph.run(self._graph_args)
-        else:
-            args = self.state.args()
-            for kernel in self.solver.step_kernels(self.serial_sort):
-                kernel(*args, float(t_target))
+        for kernel in self.state.step_kernels(self.serial_sort):
+            kernel(t_target)
 
     def _read_status(self):
         """Refresh the host's copy of time, step count, dt and guard flags."""

@@ -75,23 +75,21 @@ def test_particles_moving_out_of_the_grid(rng):
     sim = taisph.Simulation(cloud_scene(points, dim))
     velocity = rng.normal(0, 5, size=(800, dim))
     moved = points + velocity  # up to ~15 units outside a unit-square domain
-    sim.state.C[0].from_numpy(_vectors(sim, moved))
+    _move(sim, moved)
     assert_same_pairs(sim, moved)
     # and a non-finite position stays in bounds (clamped into cell 0)
     moved[5] = np.nan
     moved[6] = [np.inf, -np.inf]
-    sim.state.C[0].from_numpy(_vectors(sim, moved))
+    _move(sim, moved)
     pairs = sim.neighbour_pairs()
     assert not np.isin([5, 6], pairs).any()
 
 
-def _vectors(sim, positions):
-    """Current vector rows with positions replaced (particle i at slot i: no step yet
-    reordered them since the ids are still in order)."""
-    vec = sim.state.C[0].to_numpy()
-    ids = sim.state.C[2].to_numpy()[sim.solver.layout.q.id]
-    vec[sim.solver.layout.q.position] = positions[ids]
-    return vec
+def _move(sim, positions):
+    """Put the particles at `positions` (by id) in the device state."""
+    vec, sca, ints = sim.state.memory_order()
+    vec[sim.solver.layout.q.position] = positions[ints[sim.solver.layout.q.id]]
+    sim.state.set_state(vec, sca, ints)
 
 
 def test_asking_for_pairs_mid_run_does_not_change_the_run():

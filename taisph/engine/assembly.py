@@ -23,15 +23,15 @@ from .layout import Layout
 
 
 class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill "
-                                          "params mat gshape status flags x_ref nlist ncount aux_int aux_real")):
-    """The arguments of every kernel, in this order (then ``t_target``, the time the
-    step must not pass; f64). Inside kernels ``s.<name>``:
+                                          "params mat sizes status flags x_ref nlist ncount aux_int aux_real")):
+    """The fields every kernel works on (:mod:`.fields`); a kernel takes ``t_target``,
+    the time the step must not pass (f64). Inside kernels ``s.<name>``:
 
     Cv, Cs, Ci     current state: vectors, scalars, integers ``[row, particle]`` (:mod:`.layout`)
     Sv, Ss, Si     the same, cell-sorted (scratch of the step: the rates are computed from S)
     cell_of        cell of each particle; cell_count, cell_start (n_cells + 1), cell_fill: the sort
     params         runtime parameters (:meth:`Solver.param_table`); mat: material table
-    gshape         grid shape (n0, n1, n2, n_cells)
+    sizes          grid shape and counts: (n0, n1, n2, n_cells, n_particles, list_capacity)
     status, flags  device clock, dt history and guard flags (:mod:`.status`)
     x_ref, nlist, ncount   neighbour lists (a dummy row without lists; :mod:`.neighbours`)
     aux_int, aux_real   outputs of auxiliary kernels (neighbour pairs, probes); dummies in a step
@@ -144,7 +144,7 @@ class Solver:
             fields["shift"] = ti.types.vector(dim, real)
         self.Rates = ti.types.struct(**fields)
         self.vec = ti.types.vector(dim, real)
-        self._kernels = {}
+        self.field_sets = []  # the FieldSets allocated for this configuration (taisph.engine.fields)
 
     # ------------------------------------------------------------------------
     def param_table(self, scene, grid_lo, grid_cell, controls, dt=None) -> np.ndarray:
@@ -170,78 +170,74 @@ class Solver:
         return np.array([self.eos.material_row(m) for m in scene.materials], dtype=float)
 
     def make_kernel(self, body):
-        """A Taichi kernel with the one signature (:class:`Args`, then ``t_target``) that
-        runs ``body(s, t_target)``, a ``ti.func`` whose top-level loops run in parallel."""
-        real, vec = self.real, self.vec
-        V = ti.types.ndarray(dtype=vec, ndim=2)
-        S = ti.types.ndarray(dtype=real, ndim=2)
-        I = ti.types.ndarray(dtype=ti.i32, ndim=2)  # noqa: E741
-        I1 = ti.types.ndarray(dtype=ti.i32, ndim=1)
-        R1 = ti.types.ndarray(dtype=real, ndim=1)
-        F1 = ti.types.ndarray(dtype=ti.f64, ndim=1)  # status: time must not be f32
-        V1 = ti.types.ndarray(dtype=vec, ndim=1)
+        """A builder of the kernel running ``body(s, t_target)`` (a ``ti.func`` whose
+        top-level loops run in parallel) on a set of fields: ``build(args)`` returns a
+        Taichi kernel taking only ``t_target``, the fields `args` (:class:`Args`) bound
+        by closure, so a launch passes no arrays (see :mod:`.fields`)."""
 
-        @ti.kernel
-        def kernel(Cv: V, Cs: S, Ci: I, Sv: V, Ss: S, Si: I, cell_of: I1, cell_count: I1, cell_start: I1,
-                   cell_fill: I1, params: R1, mat: S, gshape: I1, status: F1, flags: I1, x_ref: V1, nlist: I,
-                   ncount: I1, aux_int: I, aux_real: S, t_target: ti.f64):
-            s = ti.static(Args(Cv, Cs, Ci, Sv, Ss, Si, cell_of, cell_count, cell_start, cell_fill, params, mat,
-                               gshape, status, flags, x_ref, nlist, ncount, aux_int, aux_real))
-            body(s, t_target)
+        def build(args):
+            s = args
 
-        return kernel
+            @ti.kernel
+            def kernel(t_target: ti.f64):
+                body(s, t_target)
 
-    def _cached(self, key, build):
-        if key not in self._kernels:
-            self._kernels[key] = build()
-        return self._kernels[key]
+            return kernel
 
-    def step_kernels(self, serial_sort: bool) -> tuple:
-        """The kernels of one step, in order: sort, the passes, force."""
-        return self._cached(("step", serial_sort), lambda: (
-            self.make_kernel(kernels.sort_body(self, serial_sort)),
-            *[self.make_kernel(kernels.pass_body(self, p)) for p in self.passes],
-            self.make_kernel(kernels.force_body(self)),
-        ))
+        return build
 
-    def step_graph(self, serial_sort: bool, args: Args):
-        """A Taichi graph running one step in a single call from Python.
+    def make_aux_kernel(self, body):
+        """Like :meth:`make_kernel`, for auxiliary kernels: the kernel also takes two
+        ndarrays, ``aux_int`` (i32) and ``aux_real``, any shape, which the body writes
+        (``s.aux_int``, ``s.aux_real``); see :meth:`taisph.engine.state.State.run_auxiliary`."""
+        real = self.real
 
-        A plain kernel call costs about 13 us of Python argument handling per ndarray
-        argument; a graph binds them in C++. Returns None if the backend cannot build
-        graphs (then the kernels are called one by one)."""
-        key = ("graph", serial_sort)
-        if key not in self._kernels:
-            G = ti.graph
-            try:
-                symbols = []
-                for name, array in zip(Args._fields, args):
-                    dtype = self.vec if name in ("Cv", "Sv", "x_ref") else array.dtype
-                    symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=dtype, ndim=len(array.shape)))
-                t_target = G.Arg(G.ArgKind.SCALAR, "t_target", ti.f64)
-                builder = G.GraphBuilder()
-                for kernel in self.step_kernels(serial_sort):
-                    builder.dispatch(kernel, *symbols, t_target)
-                self._kernels[key] = builder.compile()
-            except Exception:  # pragma: no cover - backend without graph support
-                self._kernels[key] = None
-        return self._kernels[key]
+        def build(args):
+            s = args
 
-    def pressure_kernel(self):
-        """Fills the pressure row (and derived rows) of the buffers passed as C."""
-        return self._cached("pressure", lambda: self.make_kernel(kernels.pressure_body(self)))
+            @ti.kernel
+            def kernel(aux_int: ti.types.ndarray(dtype=ti.i32, ndim=2), aux_real: ti.types.ndarray(dtype=real, ndim=2),
+                       t_target: ti.f64):
+                body(ti.static(s._replace(aux_int=aux_int, aux_real=aux_real)), t_target)
 
-    def pair_kernels(self):
+            return kernel
+
+        return build
+
+    def step_kernels(self, fields, serial_sort: bool) -> tuple:
+        """The kernels of one step on `fields` (a FieldSet), in order: sort, the passes, force."""
+        bodies = [kernels.sort_body(self, serial_sort), *[kernels.pass_body(self, p) for p in self.passes],
+                  kernels.force_body(self)]
+        return fields.kernel(("step", serial_sort), lambda args: tuple(self.make_kernel(b)(args) for b in bodies))
+
+    def pressure_kernel(self, fields, good: bool = False):
+        """Fills the pressure row (and derived rows) of the current state, or of the
+        copy of the last good state."""
+        def build(args):
+            if good:
+                args = args._replace(Cv=fields.good[0], Cs=fields.good[1], Ci=fields.good[2])
+            return self.make_kernel(kernels.pressure_body(self))(args)
+
+        return fields.kernel(("pressure", good), build)
+
+    def copy_kernel(self, fields):
+        """Copies the current state to the last-good copy (particles in use only)."""
+        return fields.kernel("keep_good", lambda args: self.make_kernel(
+            kernels.copy_body(self, args[:3], fields.good))(args))
+
+    def pair_kernels(self, fields):
         """(count, list) kernels of the neighbour pairs (:func:`kernels.pairs_body`)."""
-        return self._cached("pairs", lambda: (self.make_kernel(kernels.pairs_body(self, False)),
-                                              self.make_kernel(kernels.pairs_body(self, True))))
+        return fields.kernel("pairs", lambda args: (self.make_aux_kernel(kernels.pairs_body(self, False))(args),
+                                                    self.make_aux_kernel(kernels.pairs_body(self, True))(args)))
 
     def compiled_count(self) -> int:
-        """How many Taichi kernel instances this solver has compiled (for tests)."""
+        """How many Taichi kernel instances were compiled for this solver's field sets
+        (for tests)."""
         total = 0
-        for ks in self._kernels.values():
-            for k in ks if isinstance(ks, tuple) else (ks,):
-                if hasattr(k, "_primal"):
-                    total += len(k._primal.compiled_kernels)
+        for fields in self.field_sets:
+            for ks in fields.kernels.values():
+                for k in ks if isinstance(ks, tuple) else (ks,):
+                    if hasattr(k, "_primal"):
+                        total += len(k._primal.compiled_kernels)
         return total
 

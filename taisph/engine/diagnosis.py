@@ -60,7 +60,7 @@ def collect(sim) -> dict:
         dt=float(status[st.DT]),
         dt_fixed=sim.controls.dt,
         # the limit before things went wrong (a blow-up drives it to zero)
-        dt_stable_min=float(state.good_dt_stable if state.good is not None else status[st.DT_STABLE_MIN]),
+        dt_stable_min=float(state.good_dt_stable if state.has_good else status[st.DT_STABLE_MIN]),
         dt_stable=float(status[st.DT_STABLE]),
         last_good_time=state.good_time,
         last_good_step=state.good_steps,
@@ -134,8 +134,8 @@ def write_evidence(sim, report, folder) -> list:
     folder.mkdir(parents=True, exist_ok=True)
     q = sim.solver.layout.q
     files = []
-    if sim.state.good is not None:
-        vec, sca, ints = sim.state.to_numpy(sim.state.good)
+    if sim.state.has_good:
+        vec, sca, ints = sim.state.to_numpy(good=True)
         fluid = ints[q.kind] == FLUID
         path = folder / f"{sim.scene.name}_last_good.vtu"
         write_vtu(path, vec[q.position][fluid], _point_arrays(vec, sca, ints, q, fluid))

@@ -141,7 +141,7 @@ def sort_body(solver, serial: bool):
 
     @ti.func
     def body(s: ti.template(), t_target):
-        n = s.Cv.shape[1]
+        n = s.sizes[4]
         ti.loop_config(serialize=True)
         for _ in range(1):
             timestep.begin_step(s, t_target)
@@ -188,7 +188,7 @@ def pass_body(solver, neighbour_pass):
     @ti.func
     def body(s: ti.template(), t_target):
         support2 = s.params[p_support2]
-        for i in range(s.Sv.shape[1]):
+        for i in range(s.sizes[4]):
             if ti.static(select < 0) or s.Si[q.kind, i] == select:
                 acc = neighbour_pass.init(s, i)
                 grid.for_each_neighbour(s, i, s.Sv[q.position, i], support2, visitor, acc)
@@ -215,7 +215,7 @@ def force_body(solver):
     @ti.func
     def body(s_mem: ti.template(), t_target):
         dt = ti.cast(s_mem.status[st.DT], real)
-        for i in range(s_mem.Sv.shape[1]):
+        for i in range(s_mem.sizes[4]):
             s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
             for k in ti.static(carried_v):
                 s.Cv[k, i] = s.Sv[k, i]
@@ -239,6 +239,24 @@ def force_body(solver):
     return body
 
 
+def copy_body(solver, source, target):
+    """Copy the carried rows of the particles in use from `source` to `target` buffers
+    (each a (vectors, scalars, integers) triple of fields): the last good state."""
+    carried_v, carried_s, carried_i = solver.layout.carried
+
+    @ti.func
+    def body(s: ti.template(), t_target):
+        for i in range(s.sizes[4]):
+            for k in ti.static(carried_v):
+                target[0][k, i] = source[0][k, i]
+            for k in ti.static(carried_s):
+                target[1][k, i] = source[1][k, i]
+            for k in ti.static(carried_i):
+                target[2][k, i] = source[2][k, i]
+
+    return body
+
+
 def pressure_body(solver):
     """The equation of state (and derived quantities) of the state in ``C`` (or any
     buffers passed as ``C``), in place: pressure for output."""
@@ -247,7 +265,7 @@ def pressure_body(solver):
     @ti.func
     def body(s: ti.template(), t_target):
         c = ti.static(s._replace(Sv=s.Cv, Ss=s.Cs, Si=s.Ci))  # here the "sorted" arrays are C
-        for i in range(s.Cs.shape[1]):
+        for i in range(s.sizes[4]):
             derive(c, i)
 
     return body
@@ -282,7 +300,7 @@ def pairs_body(solver, fill: bool):
 
     @ti.func
     def body(s: ti.template(), t_target):
-        for i in range(s.Sv.shape[1]):
+        for i in range(s.sizes[4]):
             k = 0
             grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], visitor, k)
             if ti.static(not fill):

@@ -150,8 +150,8 @@ class Grid:
     """Cell arithmetic, counting sort and neighbour walks inside kernels.
 
     ``s.params[p_lo + d]`` is the grid origin, ``s.params[p_inv_cell + d]`` the inverse
-    cell edge and ``s.params[p_period + d]`` the period of axis d; ``s.gshape`` holds
-    ``(n0, n1, n2, n_cells)``. ``periodic`` (a tuple of bools) and ``lists`` are
+    cell edge and ``s.params[p_period + d]`` the period of axis d; ``s.sizes`` holds
+    ``(n0, n1, n2, n_cells, n_particles, list_capacity)``. ``periodic`` (a tuple of bools) and ``lists`` are
     compile-time; ``kind_row`` (the row of the particle kind) is given when the lists
     keep walls only within the range the terms need them (``list_wall_reach2``).
     """
@@ -205,7 +205,7 @@ class Grid:
             f = ti.floor((x[d] - s.params[self.p_lo + d]) * s.params[self.p_inv_cell + d])
             clamped = ti.cast(0.0, self.real)  # also for NaN, which fails f >= 0
             if f >= 0.0:
-                clamped = ti.min(f, ti.cast(s.gshape[d] - 1, self.real))
+                clamped = ti.min(f, ti.cast(s.sizes[d] - 1, self.real))
             c[d] = ti.cast(clamped, ti.i32)
         return c
 
@@ -214,7 +214,7 @@ class Grid:
         index = c[self.dim - 1]
         for k in ti.static(range(self.dim - 1)):
             d = self.dim - 2 - k
-            index = index * s.gshape[d] + c[d]
+            index = index * s.sizes[d] + c[d]
         return index
 
     @ti.func
@@ -230,12 +230,12 @@ class Grid:
             offset = (k // ti.static(3 ** (d - first_axis))) % 3 - 1
             other[d] = c[d] + offset
             if ti.static(self.periodic[d]):
-                n = s.gshape[d]
+                n = s.sizes[d]
                 if other[d] < 0:
                     other[d] += n
                 elif other[d] >= n:
                     other[d] -= n
-            elif other[d] < 0 or other[d] >= s.gshape[d]:
+            elif other[d] < 0 or other[d] >= s.sizes[d]:
                 inside = False
         if inside:
             if ti.static(self.periodic[0]):
@@ -245,7 +245,7 @@ class Grid:
             else:
                 other[0] = ti.max(c[0] - 1, 0)
                 first = self.linear(s, other)
-                other[0] = ti.min(c[0] + 1, s.gshape[0] - 1)
+                other[0] = ti.min(c[0] + 1, s.sizes[0] - 1)
                 last = self.linear(s, other)
                 begin = s.cell_start[first]
                 end = s.cell_start[last + 1]
@@ -266,14 +266,14 @@ class Grid:
         lists' fallback). Resets the counts for the next step."""
         if self.decide_rebuild(s):
             running = 0
-            for c in range(s.gshape[3]):
+            for c in range(s.sizes[3]):
                 s.cell_start[c] = running
                 s.cell_fill[c] = running
                 running += s.cell_count[c]
                 s.cell_count[c] = 0
-            s.cell_start[s.gshape[3]] = running
+            s.cell_start[s.sizes[3]] = running
         else:
-            for c in range(s.gshape[3]):
+            for c in range(s.sizes[3]):
                 s.cell_count[c] = 0
 
     @ti.func
@@ -339,7 +339,7 @@ class Grid:
             count = s.ncount[i]
             from_list = count >= 0 and not build
             reach2 = s.params[self.p_reach2]
-            capacity = s.nlist.shape[1]
+            capacity = s.sizes[5]  # entries per list (the field may have room for more)
             c = self.coords(s, s.x_ref[i])  # == xi on a rebuild step
             stored = 0
             n_loops = self.n_ranges

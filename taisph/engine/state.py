@@ -1,11 +1,12 @@
-"""The device state of one simulation: every Taichi array the step kernels take.
+"""The device state of one simulation: the fields the step kernels work on.
 
 Particle state is structure-of-arrays (:mod:`.layout`), held twice: ``C``, the
 current state, and ``S``, its cell-sorted copy the rates are computed from. Around it:
 the neighbour grid's cell arrays, the runtime parameters and material table, the
 device clock and guard flags (:mod:`.status`), the neighbour lists, and a copy of the
-last state that passed the guards. :class:`State` allocates, uploads, reads back and
-frees them; nothing else touches the arrays.
+last state that passed the guards. They live in a pooled :class:`.fields.FieldSet`
+with room for more particles than this simulation has; :class:`State` fills it,
+reads it back (the particles in use only) and gives it back on :meth:`free`.
 """
 
 from __future__ import annotations
@@ -13,51 +14,54 @@ from __future__ import annotations
 import numpy as np
 import taichi as ti
 
+from . import fields as fieldpool
 from . import neighbours, runtime
 from . import status as st
 from .assembly import Args
 
 
 class State:
-    def __init__(self, scene, solver, rt: runtime.Runtime):
-        self.solver = solver
-        self.runtime = rt
-        L = solver.layout
-        n = scene.n
-        self.n = n
-
-        def buffers():
-            return (ti.ndarray(solver.vec, (len(L.vectors), n)), ti.ndarray(rt.real, (len(L.scalars), n)),
-                    ti.ndarray(ti.i32, (len(L.integers), n)))
-
-        self.C, self.S = buffers(), buffers()
-        self.cell_of = ti.ndarray(ti.i32, n)
-        self.cells = None  # (count, start, fill): sized by setup_grid
-        self.params = ti.ndarray(rt.real, solver.n_params)
-        self.mat = ti.ndarray(rt.real, (len(scene.materials), len(solver.material_columns)))
-        self.gshape = ti.ndarray(ti.i32, 4)
-        self.status = ti.ndarray(ti.f64, st.STATUS_SIZE)
-        self.flags = ti.ndarray(ti.i32, st.FLAGS_SIZE)
-        # neighbour lists (taisph.engine.neighbours); a dummy row when the scene has none
+    def __init__(self, scene, solver, rt: runtime.Runtime, grid=None):
+        self.solver, self.runtime = solver, rt
+        self.n = scene.n
+        self.n_materials = len(scene.materials)
         self.list_capacity = neighbours.list_capacity(scene) if solver.lists else 1
-        rows = n if solver.lists else 1
-        self.x_ref = ti.ndarray(solver.vec, rows)
-        self.nlist = ti.ndarray(ti.i32, (rows, self.list_capacity))
-        self.ncount = ti.ndarray(ti.i32, rows)
-        self.ncount.fill(-1)
-        # outputs of auxiliary kernels (run_auxiliary); dummies in a step
-        self.aux_int, self.aux_real = ti.ndarray(ti.i32, (1, 1)), ti.ndarray(rt.real, (1, 1))
-        self.good = None  # copy of the last state that passed the guards (keep_good)
+        self.grid = grid or neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene),
+                                                   scene.position)
+        self._check_grid(scene, self.grid)
+        self.fields = fieldpool.acquire(solver, rt, self.n, self._n_cells(self.grid), self.list_capacity,
+                                        self.n_materials)
         self.good_time = self.good_steps = 0
         self.good_dt_stable = float("inf")
-        self.grid = None  # (lo, cell edges, shape)
+        self.has_good = False
+        self.ncount.fill(-1)
+        self._write_sizes()
 
-    def args(self, current=None) -> Args:
-        """The kernel arguments; `current`: other buffers in place of C."""
-        return Args(*(current or self.C), *self.S, self.cell_of, *self.cells, self.params, self.mat, self.gshape,
-                    self.status, self.flags, self.x_ref, self.nlist, self.ncount, self.aux_int, self.aux_real)
+    def __getattr__(self, name):
+        """The fields by name (``state.params``, ``state.ncount``...: :class:`Args`)."""
+        fields = self.__dict__.get("fields")
+        if fields is not None and name in Args._fields:
+            return getattr(fields.args, name)
+        raise AttributeError(name)
+
+    @property
+    def C(self):
+        return self.fields.args[:3]
+
+    @property
+    def S(self):
+        return self.fields.args[3:6]
+
+    def step_kernels(self, serial_sort: bool):
+        return self.solver.step_kernels(self.fields, serial_sort)
 
     # --- upload -----------------------------------------------------------------------
+    def _padded(self, array: np.ndarray, axis: int = 1) -> np.ndarray:
+        """`array` with its particle axis padded with zeros to the fields' capacity."""
+        pad = [(0, 0)] * array.ndim
+        pad[axis] = (0, self.fields.capacity - array.shape[axis])
+        return np.pad(array, pad)
+
     def upload_particles(self, scene):
         """Scene arrays -> C (particle ids = scene order)."""
         L = self.solver.layout
@@ -82,39 +86,62 @@ class State:
                     f"stores it (stored: {', '.join(L.vectors + L.scalars)})"
                 ) from None
             {"vector": vec, "scalar": sca, "integer": ints}[kind][getattr(L.q, name)] = values
-        for arr, data in zip(self.C, (vec, sca, ints)):
-            arr.from_numpy(data)
+        self.set_state(vec, sca, ints)
 
-    def setup_grid(self, scene, grid=None):
-        """Size the cell arrays for the grid `grid` = (lo, cell edges, shape), by default
-        one laid out around the current positions."""
-        if grid is None:
-            positions = scene.position if self.cells is None else self.to_numpy()[0][self.solver.layout.q.position]
-            grid = neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene), positions)
-        lo, cell, shape = grid
-        n_cells = int(np.prod(shape))
+    def set_state(self, vec, sca, ints, buffers=None):
+        """Write (vectors, scalars, integers), in memory order, to C (or `buffers`)."""
+        for field, data in zip(buffers or self.C, (vec, sca, ints)):
+            field.from_numpy(self._padded(np.ascontiguousarray(data)))
+
+    @staticmethod
+    def _n_cells(grid) -> int:
+        return int(np.prod(grid[2]))
+
+    def _check_grid(self, scene, grid):
+        n_cells = self._n_cells(grid)
         if n_cells > neighbours.MAX_CELLS_PER_PARTICLE * self.n + 4096:
             raise ValueError(
                 f"the neighbour grid would need {n_cells} cells of {scene.support_radius:g} m for {self.n} "
                 f"particles (domain {scene.domain[0]} .. {scene.domain[1]}); the domain is too large for the "
                 "smoothing length"
             )
-        self.grid = (np.asarray(lo), np.asarray(cell), tuple(shape))
-        for array in self.cells or ():
-            runtime.free_ndarray(array)
-        self.cells = tuple(ti.ndarray(ti.i32, k) for k in (n_cells, n_cells + 1, n_cells))
-        self.cells[0].fill(0)
-        g = np.zeros(4, np.int32)
-        g[: scene.dim] = shape
-        g[scene.dim : 3] = 1
-        g[3] = n_cells
-        self.gshape.from_numpy(g)
+
+    def _write_sizes(self):
+        lo, cell, shape = self.grid
+        sizes = np.ones(6, np.int32)
+        sizes[: len(shape)] = shape
+        sizes[3] = self._n_cells(self.grid)
+        sizes[4] = self.n
+        sizes[5] = self.list_capacity
+        self.sizes.from_numpy(sizes)
+
+    def setup_grid(self, scene, grid=None):
+        """Lay the grid out around the current positions (or take `grid` = (lo, cell
+        edges, shape)); a grid larger than the fields have room for moves the state to
+        a larger field set (its kernels compile once)."""
+        if grid is None:
+            positions = self.to_numpy()[0][self.solver.layout.q.position]
+            grid = neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene), positions)
+        self._check_grid(scene, grid)
+        n_cells = self._n_cells(grid)
+        if n_cells > self.fields.cell_capacity:
+            kept = self.arrays()
+            old = self.fields
+            self.fields = fieldpool.acquire(self.solver, self.runtime, self.n, n_cells, self.list_capacity,
+                                            self.n_materials)
+            fieldpool.release(old)
+            self.grid = grid
+            self.restore(kept)
+        self.grid = (np.asarray(grid[0]), np.asarray(grid[1]), tuple(grid[2]))
+        self.cell_count.fill(0)
+        self._write_sizes()
         self.write(st.FORCE_REBUILD, 1.0)  # new cells: new lists
 
     def upload_parameters(self, scene, controls, dt=None):
         table = self.solver.param_table(scene, self.grid[0], self.grid[1], controls, dt)
         self.params.from_numpy(table.astype(self.runtime.numpy_real))
-        self.mat.from_numpy(self.solver.material_table(scene).astype(self.runtime.numpy_real))
+        mat = self.solver.material_table(scene).astype(self.runtime.numpy_real)
+        self.mat.from_numpy(np.pad(mat, ((0, self.fields.materials - len(mat)), (0, 0))))
 
     def reset_status(self):
         status = np.zeros(st.STATUS_SIZE)
@@ -125,32 +152,35 @@ class State:
 
     # --- status ------------------------------------------------------------------------
     def read(self, index: int) -> float:
-        return self.status.arr.read_float([index])
+        return self.status[index]
 
     def write(self, index: int, value: float):
-        self.status.arr.write_float([index], value)
+        self.status[index] = value
 
     def read_flag(self, index: int) -> int:
-        return self.flags.arr.read_int([index])
+        return self.flags[index]
 
     # --- download -------------------------------------------------------------------
-    def to_numpy(self, buffers=None):
-        """(vectors, scalars, integers) of C (or of `buffers`) in particle-id order, with
-        the pressure recomputed from density by the equation of state."""
-        buffers = buffers or self.C
-        self.solver.pressure_kernel()(*self.args(buffers), 0.0)
-        vec, sca, ints = (a.to_numpy() for a in buffers)
+    def memory_order(self, good: bool = False):
+        """(vectors, scalars, integers) of C (or of the last good copy) as numpy, in
+        memory order, the particles in use only, with the pressure recomputed."""
+        self.solver.pressure_kernel(self.fields, good)(0.0)
+        buffers = self.fields.good if good else self.C
+        vec, sca, ints = (f.to_numpy()[:, : self.n] for f in buffers)
+        return vec, sca, ints
+
+    def to_numpy(self, good: bool = False):
+        """(vectors, scalars, integers) of C (or of the last good copy) in particle-id
+        order, with the pressure recomputed from density by the equation of state."""
+        vec, sca, ints = self.memory_order(good)
         order = np.argsort(ints[self.solver.layout.q.id], kind="stable")
         return vec[:, order].astype(float), sca[:, order].astype(float), ints[:, order]
 
     # --- the last good state ------------------------------------------------------------
     def keep_good(self, time: float, steps: int):
         """Copy C aside (device to device) before a batch of steps."""
-        if self.good is None:
-            self.good = tuple(ti.ndarray(self.solver.vec if i == 0 else a.dtype, a.shape)
-                              for i, a in enumerate(self.C))
-        for good, current in zip(self.good, self.C):
-            good.copy_from(current)
+        self.solver.copy_kernel(self.fields)(0.0)
+        self.has_good = True
         self.good_time, self.good_steps = time, steps
         self.good_dt_stable = self.read(st.DT_STABLE_MIN)
 
@@ -159,56 +189,69 @@ class State:
         """Everything a restart needs, as numpy: C, status, flags, the neighbour lists and
         the cells of their last rebuild (a resumed run walks the same lists in the same
         order: bit for bit in deterministic mode)."""
-        arrays = {f"C{k}": a.to_numpy() for k, a in enumerate(self.C)}
-        for name in ("status", "flags", "x_ref", "nlist", "ncount"):
-            arrays[name] = getattr(self, name).to_numpy()
-        arrays["cell_start"] = self.cells[1].to_numpy()
+        n, rows = self.n, self.n if self.solver.lists else 1
+        arrays = {f"C{k}": f.to_numpy()[:, :n] for k, f in enumerate(self.C)}
+        arrays.update(status=self.status.to_numpy(), flags=self.flags.to_numpy(),
+                      x_ref=self.x_ref.to_numpy()[:rows], nlist=self.nlist.to_numpy()[:rows, : self.list_capacity],
+                      ncount=self.ncount.to_numpy()[:rows],
+                      cell_start=self.cell_start.to_numpy()[: self._n_cells(self.grid) + 1])
         return arrays
 
     def restore(self, arrays):
         """The inverse of :meth:`arrays` (the grid already set up)."""
-        for k, arr in enumerate(self.C):
-            arr.from_numpy(arrays[f"C{k}"])
-        for name in ("status", "flags", "x_ref", "nlist", "ncount"):
-            getattr(self, name).from_numpy(arrays[name])
-        self.cells[1].from_numpy(arrays["cell_start"])
+        self.set_state(arrays["C0"], arrays["C1"], arrays["C2"])
+        self.status.from_numpy(arrays["status"])
+        self.flags.from_numpy(arrays["flags"])
+        for name, axis in (("x_ref", 0), ("ncount", 0)):
+            data = arrays[name]
+            getattr(self, name).from_numpy(np.pad(data, [(0, getattr(self, name).shape[0] - len(data))]
+                                                  + [(0, 0)] * (data.ndim - 1)))
+        nlist = arrays["nlist"]
+        shape = self.nlist.shape
+        self.nlist.from_numpy(np.pad(nlist, ((0, shape[0] - nlist.shape[0]), (0, shape[1] - nlist.shape[1]))))
+        start = arrays["cell_start"]
+        self.cell_start.from_numpy(np.pad(start, (0, self.cell_start.shape[0] - len(start))))
 
-    # --- tests of the neighbour search ------------------------------------------------
+    # --- auxiliary kernels (neighbour pairs for tests, probes) ------------------------
+    def run_auxiliary(self, build, time: float, aux_int=(1, 1), aux_real=(1, 1)):
+        """Run the auxiliary kernel of `build` (:meth:`Solver.make_aux_kernel`; compiled
+        once for these fields) into fresh output arrays of the given shapes; returns them
+        as numpy (int, real)."""
+        kernel = self.fields.kernel(("aux", build), lambda args: build(args))
+        out_int, out_real = ti.ndarray(ti.i32, aux_int), ti.ndarray(self.runtime.real, aux_real)
+        kernel(out_int, out_real, time)
+        return out_int.to_numpy(), out_real.to_numpy()
+
     def neighbour_pairs(self, serial_sort: bool, time: float) -> np.ndarray:
         """(M, 2) particle ids (i, j) of the pairs the neighbour sums visit now."""
-        sort = self.solver.step_kernels(serial_sort)[0]
-        count, fill = self.solver.pair_kernels()
+        sort = self.step_kernels(serial_sort)[0]
+        count, fill = self.solver.pair_kernels(self.fields)
         # The sort starts a step: with a target time of now its dt is 0, so the state
         # (C) is untouched, but it resets the maxima the next step's dt is chosen from
         # and may rebuild the neighbour lists (in S's order, not C's). Keep the clock,
         # the maxima, the lists and the cells they refer to as they were.
-        kept = [(a, a.to_numpy()) for a in (self.status, self.x_ref, self.nlist, self.ncount, *self.cells)]
-        sort(*self.args(), time)  # sorts S by cell
+        kept = [(f, f.to_numpy()) for f in (self.status, self.x_ref, self.nlist, self.ncount, self.cell_count,
+                                             self.cell_start, self.cell_fill)]
+        sort(time)  # sorts S by cell
         try:
-            counts = self.run_auxiliary(count, time, aux_int=(self.n, 1))[0][:, 0]
-            table = self.run_auxiliary(fill, time, aux_int=(self.n, max(1, int(counts.max(initial=0)))))[0]
+            counts = self._aux(count, time, (self.n, 1))[:, 0]
+            table = self._aux(fill, time, (self.n, max(1, int(counts.max(initial=0)))))
         finally:
-            for array, values in kept:
-                array.from_numpy(values)
-        ids = self.S[2].to_numpy()[self.solver.layout.q.id]
+            for field, values in kept:
+                field.from_numpy(values)
+        ids = self.S[2].to_numpy()[self.solver.layout.q.id, : self.n]
         rows = np.repeat(np.arange(self.n), counts)
         cols = np.arange(len(rows)) - np.repeat(np.cumsum(counts) - counts, counts)  # k-th neighbour of its row
         return np.stack([ids[rows], table[rows, cols]], axis=1).astype(np.int32)
 
-    def run_auxiliary(self, kernel, time: float, aux_int=(1, 1), aux_real=(1, 1)):
-        """Run an auxiliary kernel (one of the solver's, with the step signature) into
-        fresh output arrays of the given shapes; returns them as numpy (int, real)."""
-        dummies = self.aux_int, self.aux_real
-        try:
-            self.aux_int, self.aux_real = ti.ndarray(ti.i32, aux_int), ti.ndarray(self.runtime.real, aux_real)
-            kernel(*self.args(), time)
-            return self.aux_int.to_numpy(), self.aux_real.to_numpy()
-        finally:
-            self.aux_int, self.aux_real = dummies
+    def _aux(self, kernel, time, shape):
+        out = ti.ndarray(ti.i32, shape)
+        kernel(out, ti.ndarray(self.runtime.real, (1, 1)), time)
+        return out.to_numpy()
 
     def free(self):
-        """Free the Taichi arrays now (vector ndarrays leak otherwise: taichi#8763)."""
-        if runtime.is_current(self.runtime):
-            for array in (*self.C, *self.S, *(self.good or ()), self.x_ref, self.nlist, self.ncount):
-                runtime.free_ndarray(array)
-        self.C = self.S = self.cells = self.good = None
+        """Give the fields back to the pool (the next simulation of this configuration
+        that fits reuses them and their compiled kernels)."""
+        if self.__dict__.get("fields") is not None and runtime.is_current(self.runtime):
+            fieldpool.release(self.fields)
+        self.__dict__["fields"] = None
