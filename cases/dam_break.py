@@ -6,8 +6,9 @@ import numpy as np
 
 from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice, wall_layers
-from taisph.parameters import (ParameterError, at_least, between, checked, flag, integer, known_integrator, known_kernel,
-                               lattice_count, one_of, optional, positive, smoothing_factor)
+from taisph.parameters import (ParameterError, at_least, between, checked, courant_number, flag, integer,
+                               known_integrator, known_kernel, lattice_count, one_of, optional, positive,
+                               smoothing_factor)
 from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall, PressureGradient, XSPH
 from taisph.eos import tait
 
@@ -16,9 +17,9 @@ WALL_MODELS = ("lj", "dummy")
 
 @checked(dx=positive, width=positive, height=positive, tank_width=positive, tank_height=positive,
          alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
-         kernel=known_kernel, integrator=known_integrator, walls=one_of(*WALL_MODELS), wall_friction=flag,
-         delta=optional(at_least(0)), xsph=optional(between(0, 1)), t_end=positive, frames=integer(at_least=1),
-         closed_top=flag)
+         kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
+         wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
+         courant=optional(courant_number), t_end=positive, frames=integer(at_least=1), closed_top=flag)
 def dam_break(
     dx: float = 0.02,
     width: float = 1.0,
@@ -31,10 +32,12 @@ def dam_break(
     g: float = 9.81,
     kernel: str = "spline",
     integrator: str = "pc",
-    walls: str = "lj",
-    wall_friction: bool = False,
+    seed_physics: bool = False,
+    walls: str | None = None,
+    wall_friction: bool | None = None,
     delta: float | None = None,
     xsph: float | None = None,
+    courant: float | None = None,
     t_end: float = 2.0,
     frames: int = 50,
     closed_top: bool = False,
@@ -42,31 +45,56 @@ def dam_break(
     """Water column `width` x `height` (m) at the left wall of a `tank_width` tank.
 
     Defaults: 1 m x 2 m column, 4 m tank, dx = 0.02 m (5000 fluid particles), cubic
-    spline with h = 1.3 dx, predictor-corrector, Monaghan viscosity alpha = 0.1,
-    Tait water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed),
-    Lennard-Jones walls (seed eq. 13) of particles dx/2 apart with r0 = dx/2 and
-    D = 5 g H / r0. The column starts in hydrostatic equilibrium (inverse Tait).
+    spline with h = 1.3 dx, predictor-corrector, Monaghan viscosity alpha = 0.1, Tait
+    water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed), and the most
+    accurate physics per unit of wall time we measured (tools/dam_break_defaults.py,
+    docs/performance.md): dummy walls (three layers dx apart, pressure extrapolated from
+    the fluid, Adami et al. 2012) with wall friction, density diffusion delta = 0.1, and
+    an adaptive step with Courant number 0.4 (it held 0.55 and failed at 0.6). At
+    dx = 0.02 that gives a pressure noise of 0.017 rho g H and a surge front 0.15 from
+    Koshizuka & Oka's, against 0.26 and 0.165 with the seed's physics. The column starts
+    in hydrostatic equilibrium (inverse Tait).
+
+    seed_physics: the seed report's model instead: Lennard-Jones walls (seed eq. 13) of
+    particles dx/2 apart with r0 = dx/2 and D = 5 g H / r0, no density diffusion, no
+    wall friction, Courant number 0.25.
     The tank is open at the top unless `closed_top`: water may run up a wall, fly
     above the domain and fall back (the top is not a guard), and water that goes over
     a wall and leaves the domain elsewhere is removed and counted (the run summary
     accounts for its mass).
 
-    walls: "lj" (Lennard-Jones, the default) or "dummy" (layers of dummy particles
-    with pressure extrapolated from the fluid, Adami et al. 2012: correct wall
-    pressure, no gap). wall_friction (dummy walls only): artificial viscosity also
-    between fluid and wall particles with the no-slip wall velocity - a numerical
-    friction that slows the front but holds water on the back wall (docs/accuracy.md).
-    delta: density diffusion (delta-SPH with hydrostatic correction) coefficient,
-    e.g. 0.1; 0 or None for none. xsph: XSPH epsilon, 0 or None for none.
+    Each of the following, left at None, follows the model (the defaults above, or
+    the seed's): walls "dummy" or "lj"; wall_friction (dummy walls only): artificial
+    viscosity also between fluid and wall particles with the no-slip wall velocity, a
+    numerical friction that slows the front and holds water on the back wall
+    (docs/accuracy.md); delta: the density diffusion coefficient (0: none); courant:
+    the adaptive step's Courant number (0.4 with dummy walls and density diffusion,
+    else the engine's 0.25). xsph: XSPH epsilon, 0 or None for none.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break", walls=walls, wall_friction=wall_friction,
-                      delta=delta, xsph=xsph, closed_top=closed_top)
+                      kernel, integrator, t_end, frames, "dam_break", seed_physics=seed_physics, walls=walls,
+                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, closed_top=closed_top)
+
+
+def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, courant=None):
+    """The dam break's model settings with the Nones filled in (see dam_break)."""
+    walls = walls or ("lj" if seed_physics else "dummy")
+    if wall_friction is None:
+        wall_friction = walls == "dummy" and not seed_physics
+    if delta is None:
+        delta = 0.0 if seed_physics else 0.1
+    if courant is None and walls == "dummy" and delta:
+        courant = 0.4
+    return walls, wall_friction, delta, courant
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-               kernel, integrator, t_end, frames, name, walls="lj", wall_friction=False, delta=None, xsph=None,
-               description=None, closed_top=False):
+               kernel, integrator, t_end, frames, name, seed_physics=False, walls=None, wall_friction=None,
+               delta=None, xsph=None, courant=None, description=None, closed_top=False):
+    walls, wall_friction, delta, courant = physics(seed_physics, walls, wall_friction, delta, courant)
+    if wall_friction and walls != "dummy":
+        raise ParameterError(f"{name}: wall_friction needs walls = 'dummy' (the Lennard-Jones walls carry no "
+                             "velocity to rub against)")
     # what the ranges of single parameters cannot say (they are checked by each case's @checked)
     if width > tank_width or height > tank_height:
         raise ParameterError(f"{name}: the water column (width = {width:g} m, height = {height:g} m) must fit in "
@@ -112,6 +140,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         domain=(np.array(lo) - dx, np.array(tank_hi) + dx + np.eye(dim)[up] * 0.5 * tank_height),
         open_faces=() if closed_top else ("+y",),
         remove_escaped=True,
+        courant=courant,
         materials=[water],
         terms=terms,
         kernel=kernel,

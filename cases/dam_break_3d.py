@@ -1,16 +1,16 @@
 """3D dam break: a water column collapses in a narrow tank (x along the flow, y up, z across)."""
 
-from taisph.parameters import (at_least, between, checked, flag, integer, known_integrator, known_kernel, one_of,
-                               optional, positive, smoothing_factor)
+from taisph.parameters import (at_least, between, checked, courant_number, flag, integer, known_integrator,
+                               known_kernel, one_of, optional, positive, smoothing_factor)
 
 from .dam_break import WALL_MODELS, _dam_break
 
 
 @checked(dx=positive, width=positive, height=positive, depth=positive, tank_width=positive, tank_height=positive,
          alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
-         kernel=known_kernel, integrator=known_integrator, walls=one_of(*WALL_MODELS), wall_friction=flag,
-         delta=optional(at_least(0)), xsph=optional(between(0, 1)), t_end=positive, frames=integer(at_least=1),
-         closed_top=flag)
+         kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
+         wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
+         courant=optional(courant_number), t_end=positive, frames=integer(at_least=1), closed_top=flag)
 def dam_break_3d(
     dx: float = 0.05,
     width: float = 1.0,
@@ -24,10 +24,12 @@ def dam_break_3d(
     g: float = 9.81,
     kernel: str = "spline",
     integrator: str = "pc",
-    walls: str = "lj",
-    wall_friction: bool = False,
+    seed_physics: bool = False,
+    walls: str | None = None,
+    wall_friction: bool | None = None,
     delta: float | None = None,
     xsph: float | None = None,
+    courant: float | None = None,
     t_end: float = 1.0,
     frames: int = 25,
     closed_top: bool = False,
@@ -38,5 +40,5 @@ def dam_break_3d(
     particles), same physics, options and defaults as ``dam_break``.
     """
     return _dam_break(3, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
-                      kernel, integrator, t_end, frames, "dam_break_3d", walls=walls, wall_friction=wall_friction,
-                      delta=delta, xsph=xsph, closed_top=closed_top)
+                      kernel, integrator, t_end, frames, "dam_break_3d", seed_physics=seed_physics, walls=walls,
+                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, closed_top=closed_top)

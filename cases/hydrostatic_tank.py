@@ -39,5 +39,5 @@ def hydrostatic_tank(
     """
     lattice_count("hydrostatic_tank", "the tank", dx, ("width", width), ("1.5 height", 1.5 * height))
     return _dam_break(2, dx, width, height, None, width, 1.5 * height, alpha, c0, h_factor, g, kernel, integrator,
-                      t_end, frames, "hydrostatic_tank", walls=walls, wall_friction=wall_friction, delta=delta,
+                      t_end, frames, "hydrostatic_tank", walls=walls, wall_friction=wall_friction, delta=delta or 0.0,
                       description=f"{width:g} m x {height:g} m of still water in a closed tank")

@@ -102,6 +102,9 @@ class Scene:
     # particles that leave the domain elsewhere are removed and counted (instead of
     # stopping the run); the simulation's remove_escaped control overrides this
     remove_escaped: bool = False
+    # the Courant number of the adaptive step, for a scene measured to hold more than
+    # the engine's default 0.25 (taisph.engine.timestep); the courant control overrides
+    courant: float | None = None
     # per-particle data, filled by add_fluid/add_walls
     position: np.ndarray = None
     velocity: np.ndarray = None
@@ -272,6 +275,8 @@ class Scene:
                 raise ValueError(f"scene {self.name!r}: {key} must be positive, got {v!r}")
         if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"scene {self.name!r}: dt must be positive, got {self.dt!r}")
+        if self.courant is not None and not (math.isfinite(self.courant) and 0 < self.courant <= 1):
+            raise ValueError(f"scene {self.name!r}: courant must be in (0, 1], got {self.courant!r}")
         lo, hi = self.domain
         if np.any(hi <= lo):
             raise ValueError(f"scene {self.name!r}: domain {lo} .. {hi} is empty")
@@ -300,7 +305,8 @@ class Scene:
             f"{self.name}: {self.description}".rstrip(": "),
             f"  {self.dim}D, {self.n_fluid} fluid + {self.n_wall} wall particles, dx = {self.dx:g} m, "
             f"h {'<=' if 'adaptive_h' in self.terms_by_name else '='} {self.smoothing_length:g} m "
-            f"({self.kernel} kernel), integrator {self.integrator}",
+            f"({self.kernel} kernel), integrator {self.integrator}"
+            + (f", Courant number {self.courant:g}" if self.courant is not None else ""),
             "  effects: " + ", ".join(t.describe() for t in self.terms),
         ]
         if any(self.periodic):

@@ -53,7 +53,7 @@ class Simulation:
         if unknown:
             raise TypeError(f"unknown simulation option(s): {', '.join(sorted(unknown))}")
         controls.setdefault("dt", scene.dt)
-        self.controls = Controls(**controls)
+        self.controls = timestep.controls_for(scene, **controls)
         self.serial_sort = self.n < SERIAL_SORT_BELOW or self.controls.deterministic
         self._step_writers, self._launched = (), 0  # writers called every k steps (run)
         self._warned_dt = False

@@ -39,8 +39,8 @@ def test_dam_break_negative_dx_exits_2_and_writes_nothing(tmp_path):
     (["--dx", "5"], "dam_break: dx = 5 m leaves the water column (width = 1 m, height = 2 m) without particles "
                     "along width: dx must be at most 1 m"),
     (["--set", "alpha=-1"], "dam_break: alpha must be >= 0, got -1.0"),
-    (["--set", "walls=wood"], "--set walls=wood: walls must be one of 'lj', 'dummy'; expected one of lj, dummy, "
-                              "got 'wood'"),
+    (["--set", "walls=wood"], "--set walls=wood: walls must be one of 'lj', 'dummy' or None; expected one of lj, "
+                              "dummy, got 'wood'"),
     (["--set", "closed_top=maybe"], "--set closed_top=maybe: closed_top must be True or False; expected true or "
                                     "false, got 'maybe'"),
     (["--set", "width"], "--set width: expected NAME=VALUE"),

@@ -30,7 +30,7 @@ def traced_while(build):
 def test_unlisted_terms_are_not_compiled():
     bare = traced_while(lambda: taisph.Simulation(bare_scene()).step(1))
     assert bare == {("continuity", "pair"), ("pressure", "pair"), ("pressure", "derive")}
-    full = traced_while(lambda: taisph.Simulation(taisph.cases.dam_break(dx=0.2)).step(1))
+    full = traced_while(lambda: taisph.Simulation(taisph.cases.dam_break(dx=0.2, seed_physics=True)).step(1))
     assert {("artificial_viscosity", "pair"), ("lennard_jones_wall", "pair"), ("gravity", "body")} <= full
     assert bare < full
 
@@ -56,10 +56,10 @@ def test_help_and_summary_list_the_active_effects(capsys):
     with pytest.raises(SystemExit):
         cli.main(["dam_break", "--help"])
     out = capsys.readouterr().out
-    assert "effects (compiled in):" in out and "lennard_jones_wall" in out and "artificial_viscosity" in out
+    assert "effects (compiled in):" in out and "dummy_walls" in out and "density_diffusion" in out
     assert cli.main(["dam_break", "--dx", "0.2", "--t-end", "0.001", "--frames", "1", "--no-output",
                      "--no-progress"]) == 0
-    assert "effects: continuity, pressure, artificial_viscosity" in capsys.readouterr().out
+    assert "effects: continuity(walls), pressure(walls), artificial_viscosity" in capsys.readouterr().out
 
 
 def test_gpu_backends_are_wired_and_fail_clearly_without_a_device():

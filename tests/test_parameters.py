@@ -16,8 +16,8 @@ CASES = taisph.cases.CASES
 
 def bad_values(rng):
     """Values just outside a declared range (and of the wrong kind)."""
-    if isinstance(rng, Optional):
-        return bad_values(rng.inner)
+    if isinstance(rng, Optional):  # None is allowed
+        return [v for v in bad_values(rng.inner) if v is not None]
     if isinstance(rng, Number):
         out = [float("nan"), float("inf"), "abc"]
         if rng.low is not None:

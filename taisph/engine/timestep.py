@@ -36,7 +36,7 @@ class Controls:
 
     dt                 fixed time step (s); None: adaptive (the default)
     dt_max             cap on the adaptive step (s)
-    courant            C_cfl in dt = C_cfl h / max(c + |v|)             (0.25)
+    courant            C_cfl in dt = C_cfl h / max(c + |v|)             (0.25, or the scene's)
     force_factor       C_force in dt = C_force sqrt(h / max |a|)         (0.25)
     viscous_factor     C_visc in dt = C_visc h^2 / nu                     (0.125)
     max_density_error  stop when |rho/rho0 - 1| exceeds this (0 disables; taisph.engine.guards)
@@ -53,6 +53,16 @@ class Controls:
     max_density_error: float = 0.2
     remove_escaped: bool | None = None
     deterministic: bool = False
+
+
+def controls_for(scene, **given) -> Controls:
+    """The controls of a simulation of `scene`: `given` ones, else the scene's own
+    Courant number (``Scene.courant``: a scene measured to hold a larger one), else the
+    defaults."""
+    if given.get("courant") is None and getattr(scene, "courant", None) is not None:
+        given["courant"] = scene.courant
+    given = {k: v for k, v in given.items() if not (k == "courant" and v is None)}
+    return Controls(**given)
 
 
 def stable_dt(h, signal, acceleration, viscosity, courant, force_factor, viscous_factor):
@@ -80,7 +90,7 @@ def initial_dt(scene, controls: Controls | None = None, courant: float | None = 
     an ideal gas, the largest initial sound speed) plus the largest initial speed, the
     acceleration |g|, h the smallest initial smoothing length. For a fixed step chosen
     before a run; the adaptive step follows the flow instead."""
-    c = controls or Controls()
+    c = controls or controls_for(scene)
     h = scene.smallest_smoothing_length()
     max_sound_speed = getattr(scene.eos, "max_sound_speed", None)
     c_max = max_sound_speed(scene) if max_sound_speed else max(m.c0 for m in scene.materials)
