@@ -1,11 +1,24 @@
-"""Benchmark: dam break throughput at several particle counts.
+"""Benchmark: the flagship dam break's throughput, against a hand-fused reference loop.
 
-    python tools/bench.py                      # 2D ~10k, 100k, 1M fluid particles + 3D ~60k
-    python tools/bench.py --quick              # 2D ~10k and ~40k only
+    python tools/bench.py                      # 2D ~10k, 20k, 100k, 1M fluid particles + 3D ~60k
+    python tools/bench.py --quick              # 2D ~10k and 20k only
     python tools/bench.py --precision f32 --threads 1
     python tools/bench.py --compare --pysph-python /path/to/pysph-venv/bin/python
-    python tools/bench.py --skin 0             # walk the cells every step (no neighbour lists)
-    python tools/bench.py --steps 30 --repeat 5   # every size timed over the same early flow
+    python tools/bench.py --skin 0.3           # with neighbour lists (no reference then)
+
+For each size the engine's whole step (``taisph.Simulation.step``: sort, passes,
+force, adaptive dt, guards) and ``tools/bench_reference.py`` (a hand-fused loop with
+exactly the same physics and integrator, from the same particles) run in the same
+process, in alternating blocks of steps; each prints its best block. The VM this was
+developed on drifts up to 2x within minutes, so the ratio engine/reference (speed of
+the engine over the reference's: 1.0 means as fast) is the figure to trust, not either
+throughput alone.
+
+Columns: fluid and wall particles; steps per block; ns per fluid particle-step and
+M fluid particle-steps per second of the engine and of the reference; their ratio;
+the engine's wall seconds per simulated second (at the block's mean dt); compile s
+(building the simulation and its first step: kernels compile once per configuration
+and size class, or load from Taichi's offline cache); bytes per particle.
 
 --compare runs taisph's dam break and then PySPH's dam_break_2d example (through
 tools/pysph_dam_break.py, which sets PySPH's particle mass and smoothing length from
@@ -13,19 +26,13 @@ the spacing) at the same spacing and end time, output off, OpenMP on, and prints
 both throughputs, both wall seconds per simulated second, and their ratios. Both
 sides exclude compilation and set-up (taisph: a first step; PySPH: the difference of
 two runs to tf/4 and tf).
-
-For each size it prints particles, steps, compile time (building the simulation and
-its first step, which compiles the kernels unless Taichi's offline cache has them),
-wall time of the timed steps (median of --repeat blocks, compilation excluded),
-fluid particle-steps per second, and wall seconds per simulated second.
 """
 
 import argparse
+import json
 import math
 import os
 import platform
-import json
-import statistics
 import subprocess
 import sys
 import time
@@ -33,51 +40,53 @@ import time
 import taichi as ti
 
 import taisph
+from bench_reference import flagship, setup as reference_setup
+
+SIZES_2D = (10_000, 20_000, 100_000, 1_000_000)  # fluid particles: 2 / dx^2 (1 m x 2 m column)
+SIZE_3D = 60_000  # 2 / dx^3
 
 
-def sizes_2d(quick: bool):
-    # column 1 m x 2 m: fluid particles = 2 / dx^2
-    targets = (10_000, 40_000) if quick else (10_000, 100_000, 1_000_000)
-    return [("dam_break", math.sqrt(2.0 / n)) for n in targets]
+def sizes(quick: bool, cases):
+    out = []
+    if "2d" in cases:
+        out += [(2, math.sqrt(2.0 / n)) for n in (SIZES_2D[:2] if quick else SIZES_2D)]
+    if "3d" in cases and not quick:
+        out.append((3, (2.0 / SIZE_3D) ** (1 / 3)))
+    return out
 
 
-def sizes_3d(quick: bool):
-    # column 1 x 2 x 1 m: fluid particles = 2 / dx^3
-    return [] if quick else [("dam_break_3d", (2.0 / 60_000) ** (1 / 3))]
+def timed_block(step, steps: int) -> float:
+    """Wall seconds of `steps` steps (synchronised before and after)."""
+    ti.sync()
+    start = time.perf_counter()
+    step(steps)
+    ti.sync()
+    return time.perf_counter() - start
 
 
-def bench(case: str, dx: float, steps: int, repeat: int, precision: str, threads: int | None, skin=None):
-    scene = getattr(taisph.cases, case)(dx=dx)
+def bench(dim: int, dx: float, steps: int, repeat: int, precision: str, skin=None, with_reference=True) -> dict:
+    scene = flagship(dim, dx)
     if skin is not None:
         scene.neighbour_skin = skin
     start = time.perf_counter()
-    sim = taisph.Simulation(scene, precision=precision, threads=threads)
+    sim = taisph.Simulation(scene, precision=precision)
     sim.step(1)
     ti.sync()
     compile_time = time.perf_counter() - start
-    times = []
-    rebuilds0, steps0 = sim.list_rebuilds, sim.steps
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        sim.step(steps)
-        ti.sync()
-        times.append(time.perf_counter() - t0)
-    wall = statistics.median(times)
-    row = dict(
-        case=case,
-        dim=scene.dim,
-        dx=dx,
-        fluid=sim.n_fluid,
-        walls=sim.n - sim.n_fluid,
-        steps=steps,
-        compile=compile_time,
-        wall=wall,
-        rate=sim.n_fluid * steps / wall,
-        per_sim_second=wall / (steps * sim.dt),
-        dt=sim.dt,
-        bytes=sim.bytes_per_particle(),
-        steps_per_rebuild=(sim.steps - steps0) / max(1, sim.list_rebuilds - rebuilds0),
-    )
+    ref = reference_setup(flagship(dim, dx), real=sim.runtime.real) if with_reference and not skin else None
+    if ref is not None:
+        ref.step(1)
+    engine, reference = math.inf, math.inf
+    t0 = sim.time
+    for _ in range(repeat):  # alternating blocks: both see the same machine
+        engine = min(engine, timed_block(sim.step, steps))
+        if ref is not None:
+            reference = min(reference, timed_block(ref.step, steps))
+    dt_mean = (sim.time - t0) / (repeat * steps)
+    n = sim.n_fluid
+    row = dict(dim=dim, dx=dx, fluid=n, walls=sim.n - n, steps=steps, compile=compile_time,
+               engine_ns=engine / (n * steps) * 1e9, reference_ns=reference / (n * steps) * 1e9,
+               per_sim_second=engine / (steps * dt_mean), bytes=sim.bytes_per_particle())
     sim.close()
     return row
 
@@ -117,9 +126,9 @@ def main(argv=None):
     p.add_argument("--quick", action="store_true", help="small sizes only")
     p.add_argument("--precision", choices=["f32", "f64"], default="f64")
     p.add_argument("--threads", type=int, default=None)
-    p.add_argument("--repeat", type=int, default=3, help="timed blocks per size (median reported)")
-    p.add_argument("--work", type=float, default=2e7,
-                   help="fluid particle-steps per timed block (steps = work / particles, at least 5)")
+    p.add_argument("--repeat", type=int, default=5, help="alternating blocks per size (the best is reported)")
+    p.add_argument("--work", type=float, default=4e6,
+                   help="fluid particle-steps per block (steps = work / particles, at least 3)")
     p.add_argument("--compare", action="store_true", help="run PySPH's dam_break_2d after taisph (see above)")
     p.add_argument("--pysph-python", default="python", help="a Python with PySPH installed (for --compare)")
     p.add_argument("--dx", type=float, default=0.01, help="spacing for --compare (0.01: 20k fluid particles)")
@@ -127,32 +136,27 @@ def main(argv=None):
     p.add_argument("--skin", type=float, default=None,
                    help="neighbour list skin as a fraction of the support radius (0: no lists; default: the case's)")
     p.add_argument("--cases", default="2d,3d", help="which sizes: 2d, 3d or both (default)")
-    p.add_argument("--steps", type=int, default=None,
-                   help="steps per timed block for every size (default: --work / particles). The same "
-                        "count times every size over the same early flow, before the viscosity of "
-                        "the developed flow adds cost; the default times small runs much later")
     args = p.parse_args(argv)
 
     rt = taisph.engine.runtime.init(precision=args.precision, threads=args.threads)
     print(f"# taisph {taisph.__version__}, taichi {ti.__version__}, {platform.python_version()}, "
           f"{platform.machine()}, {os.cpu_count()} cores, {rt.threads} thread(s), {rt.precision}, "
-          f"arch {rt.arch}")
+          f"arch {rt.arch}, {time.strftime('%Y-%m-%d %H:%M')}")
     print(f"# command: python tools/bench.py {' '.join(sys.argv[1:] if argv is None else argv)}")
     if args.compare:
         compare(args.dx, args.tf, args.pysph_python, args.precision, args.skin)
         return
-    print("| case | fluid | walls | steps | compile s | wall s | M fluid particle-steps/s | wall s per simulated s "
-          "| bytes per particle | steps per list rebuild |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    chosen = args.cases.split(",")
-    sizes = (sizes_2d(args.quick) if "2d" in chosen else []) + (sizes_3d(args.quick) if "3d" in chosen else [])
-    for case, dx in sizes:
-        fluid_estimate = 2.0 / dx ** (2 if case == "dam_break" else 3)
-        steps = args.steps or max(5, int(args.work / fluid_estimate))
-        r = bench(case, dx, steps, args.repeat, args.precision, args.threads, args.skin)
-        print(f"| {r['case']} | {r['fluid']} | {r['walls']} | {r['steps']} | {r['compile']:.2f} | "
-              f"{r['wall']:.3f} | {r['rate'] / 1e6:.2f} | {r['per_sim_second']:.1f} | {r['bytes']} | "
-              f"{r['steps_per_rebuild']:.1f} |", flush=True)
+    print("| dim | fluid | walls | steps | engine ns/particle-step | engine M/s | reference ns | reference M/s "
+          "| engine / reference | wall s per simulated s | compile s | bytes per particle |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for dim, dx in sizes(args.quick, args.cases.split(",")):
+        fluid_estimate = 2.0 / dx**dim
+        steps = max(3, int(args.work / fluid_estimate))
+        r = bench(dim, dx, steps, args.repeat, args.precision, args.skin)
+        print(f"| {dim} | {r['fluid']} | {r['walls']} | {r['steps']} | {r['engine_ns']:.0f} | "
+              f"{1e3 / r['engine_ns']:.2f} | {r['reference_ns']:.0f} | {1e3 / r['reference_ns']:.2f} | "
+              f"{r['reference_ns'] / r['engine_ns']:.2f} | {r['per_sim_second']:.1f} | {r['compile']:.2f} | "
+              f"{r['bytes']} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@
     python tools/bench_reference.py --check                           # agrees with taisph's engine?
 
 Exactly the physics and integrator of the flagship dam break's defaults
-(``taisph.cases.dam_break`` / ``dam_break_3d``): continuity and the symmetric pressure
+(``taisph.cases.dam_break`` / ``dam_break_3d``; it refuses to run if they change): continuity and the symmetric pressure
 gradient over fluid and dummy-wall neighbours; Monaghan artificial viscosity (alpha,
 eta^2 = 0.01 h^2, walls with the no-slip ghost velocity); density diffusion (delta-SPH
 with the hydrostatic correction, fluid neighbours); gravity; dummy walls with pressure,
@@ -58,7 +58,7 @@ def setup(scene, real=ti.f64):
     shape = [int(math.ceil((hi[d] - lo[d]) / support)) for d in range(dim)]
     n_cells = int(np.prod(shape))
     vec = ti.types.vector(dim, real)
-    courant, force_factor = 0.25, 0.25
+    courant, force_factor = scene.courant or 0.25, 0.25
 
     # runtime parameters (changing one recompiles nothing, as in taisph), read into
     # registers once per particle by load()
@@ -310,10 +310,13 @@ def setup(scene, real=ti.f64):
 
 
 def flagship(dim: int, dx: float):
+    """The flagship dam break with its default physics, 2D or 3D."""
     import taisph
 
     case = taisph.cases.dam_break if dim == 2 else taisph.cases.dam_break_3d
-    return case(dx=dx, walls="dummy", delta=0.1, wall_friction=True)
+    scene = case(dx=dx)
+    assert {"dummy_walls", "density_diffusion"} <= set(scene.terms_by_name), "the reference's physics is not the default"
+    return scene
 
 
 def check(dim: int, dx: float, steps: int = 20) -> float:

@@ -184,14 +184,15 @@ def pass_body(solver, neighbour_pass):
     visitor = _PassSum(solver, neighbour_pass)
     select = SELECT[neighbour_pass.select]
     p_support2 = solver.param_rows["support2"]
+    local_parameters = _local_parameters(solver)
 
     @ti.func
-    def body(s: ti.template(), t_target):
-        support2 = s.params[p_support2]
-        for i in range(s.sizes[4]):
-            if ti.static(select < 0) or s.Si[q.kind, i] == select:
+    def body(s_mem: ti.template(), t_target):
+        for i in range(s_mem.sizes[4]):
+            if ti.static(select < 0) or s_mem.Si[q.kind, i] == select:
+                s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
                 acc = neighbour_pass.init(s, i)
-                grid.for_each_neighbour(s, i, s.Sv[q.position, i], support2, visitor, acc)
+                grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], visitor, acc)
                 neighbour_pass.finish(s, i, acc)
                 if ti.static(neighbour_pass.rederive):
                     derive(s, i)
