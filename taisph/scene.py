@@ -16,10 +16,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .engine import integrators, smoothing
+from .engine import dfsph, integrators, smoothing
 from .engine.layout import FLUID, KINDS, WALL
 from .eos import Tait
 from .terms.base import Term
+
+
+SOLVERS = ("wcsph", "dfsph")
 
 
 @dataclass
@@ -105,6 +108,10 @@ class Scene:
     # the Courant number of the adaptive step, for a scene measured to hold more than
     # the engine's default 0.25 (taisph.engine.timestep); the courant control overrides
     courant: float | None = None
+    # "wcsph" (weakly compressible: the terms and the equation of state) or "dfsph" (divergence-
+    # free SPH: an implicit pressure solve keeps the density at rho0; the scene's non-pressure
+    # terms only, taisph.engine.dfsph); compile time
+    solver: str = "wcsph"
     # per-particle data, filled by add_fluid/add_walls
     position: np.ndarray = None
     velocity: np.ndarray = None
@@ -267,6 +274,8 @@ class Scene:
             self.eos.check(self)
         if self.kernel not in smoothing.KERNELS:
             raise ValueError(f"unknown kernel {self.kernel!r}; choose one of {', '.join(smoothing.KERNELS)}")
+        if self.solver not in SOLVERS:
+            raise ValueError(f"scene {self.name!r}: unknown solver {self.solver!r}; choose one of {', '.join(SOLVERS)}")
         if self.integrator not in integrators.INTEGRATORS:
             raise ValueError(f"unknown integrator {self.integrator!r}; choose one of {', '.join(integrators.INTEGRATORS)}")
         for key in ("dx", "smoothing_length", "t_end"):
@@ -299,15 +308,26 @@ class Scene:
             names.add(t.name)
             t.check(self)
             t.param_values(self.dim)
+        if self.solver == "dfsph":
+            dfsph.check(self)
 
     def describe(self) -> str:
+        if self.solver == "dfsph":
+            numerics = "solver dfsph (incompressible: pressure solve, symplectic Euler)"
+            kept = dfsph.kept_terms(self)
+            replaced = [t.name for t in self.terms if t not in kept]
+            effects = ", ".join(["DFSPH pressure" + (f" (in place of {', '.join(replaced)})" if replaced else "")]
+                                + [t.describe() for t in kept])
+        else:
+            numerics = f"solver wcsph, integrator {self.integrator}" + (
+                f", Courant number {self.courant:g}" if self.courant is not None else "")
+            effects = ", ".join(t.describe() for t in self.terms)
         lines = [
             f"{self.name}: {self.description}".rstrip(": "),
             f"  {self.dim}D, {self.n_fluid} fluid + {self.n_wall} wall particles, dx = {self.dx:g} m, "
             f"h {'<=' if 'adaptive_h' in self.terms_by_name else '='} {self.smoothing_length:g} m "
-            f"({self.kernel} kernel), integrator {self.integrator}"
-            + (f", Courant number {self.courant:g}" if self.courant is not None else ""),
-            "  effects: " + ", ".join(t.describe() for t in self.terms),
+            f"({self.kernel} kernel), {numerics}",
+            "  effects: " + effects,
         ]
         if any(self.periodic):
             lines.append("  periodic along " + ", ".join("xyz"[k] for k, p in enumerate(self.periodic) if p))

@@ -243,6 +243,8 @@ class Simulation:
         frames0 = frame_writer.frame if frame_writer else 0
         for writer in run_writers:
             writer.on_start(self)
+        if self.solver.dfsph:
+            self.pressure_solve.begin_window()
         self.state.write(st.DT_MIN, math.inf)  # run statistics
         self.state.write(st.DT_MAX, 0.0)
         dt_sum0 = self.state.read(st.DT_SUM)
@@ -269,7 +271,16 @@ class Simulation:
                           str(frame_writer.folder) if frame_writer else None, dt_min, dt_mean, dt_max,
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
-                          float(masses[kinds == FLUID].sum()), float(masses[kinds == REMOVED].sum()))
+                          float(masses[kinds == FLUID].sum()), float(masses[kinds == REMOVED].sum()),
+                          self.pressure_solve.stats.summary() if self.solver.dfsph else None)
+
+    @property
+    def pressure_solve(self):
+        """DFSPH's stepper (:class:`taisph.engine.dfsph.Stepper`): its ``stats`` hold the
+        iterations and errors of the solves; None for WCSPH."""
+        if not self.solver.dfsph:
+            return None
+        return self.state.step_kernels(self.serial_sort)[0]
 
     def device_time(self) -> float:
         """The simulated time on the device now (``time`` is the host's copy, refreshed
@@ -380,6 +391,10 @@ class Simulation:
         real = 4 if self.runtime.precision == "f32" else 8
         row = self.dim * real * len(L.vectors) + real * len(L.scalars) + 4 * len(L.integers)
         lists = self.dim * real + 4 + 4 * self.state.list_capacity if self.solver.lists else 0
+        if self.solver.dfsph:  # DFSPH's pair list (taisph.engine.pairs)
+            from .engine import pairs
+
+            lists = pairs.bytes_per_particle(self.state.list_capacity, real)
         return 3 * row + 4 + lists
 
     def effects(self) -> list:

@@ -18,7 +18,7 @@ import collections
 import numpy as np
 import taichi as ti
 
-from . import guards, integrators, kernels, neighbours, runtime, smoothing, timestep
+from . import dfsph, guards, integrators, kernels, neighbours, pairs, runtime, smoothing, timestep
 from .layout import Layout
 
 
@@ -38,19 +38,22 @@ class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count 
     """
 
 
-class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic lists")):
+class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic lists solver")):
     """Everything that changes the compiled code (not parameter values)."""
 
 
 def config_of(scene) -> Config:
+    solver = getattr(scene, "solver", "wcsph")
+    terms = dfsph.kept_terms(scene) if solver == "dfsph" else scene.terms
     return Config(
         dim=scene.dim,
         kernel=scene.kernel,
-        integrator=integrators.INTEGRATORS[scene.integrator].name,
+        integrator="dfsph" if solver == "dfsph" else integrators.INTEGRATORS[scene.integrator].name,
         eos=scene.eos.compile_key(),
-        terms=tuple(t.compile_key() for t in scene.terms),
+        terms=tuple(t.compile_key() for t in terms),
         periodic=tuple(bool(p) for p in scene.periodic),
         lists=scene.neighbour_skin > 0,
+        solver=solver,
     )
 
 
@@ -78,34 +81,42 @@ class Solver:
         self.real = real = rt.real
         self.kernel = smoothing.make(scene.kernel, dim)
         self.sigma = self.kernel.sigma(dim)
+        # DFSPH (engine/dfsph.py): the scene's non-pressure terms, no equation of state, its own step
+        self.dfsph = getattr(scene, "solver", "wcsph") == "dfsph"
+        terms = self.active_terms(scene)
+        eos = dfsph.Incompressible() if self.dfsph else scene.eos
 
         # --- what is stored --------------------------------------------------
         integrated = []
-        for t in scene.terms:
+        for t in terms:
             integrated.extend(t.integrates.items())
         self.integrated = tuple(integrated)
-        self.has_shift = any(t.has_shift for t in scene.terms)
-        integ = integrators.make(scene.integrator, self.integrated, self.has_shift)
+        self.has_shift = any(t.has_shift for t in terms)
+        integ = integrators.make("euler" if self.dfsph else scene.integrator, self.integrated, self.has_shift)
         extra_v, extra_s = integ.quantities()
         vectors = list(extra_v)
-        scalars = list(extra_s) + list(scene.eos.scalars)
+        scalars = list(extra_s) + list(eos.scalars)
         integers = []
-        derived = list(scene.eos.derived)
-        for t in scene.terms:
+        derived = list(eos.derived)
+        for t in terms:
             vectors += t.vectors
             scalars += t.scalars
             integers += t.integers
             derived += t.derived
-        self.layout = layout = Layout(vectors, scalars, integers, derived)
-        self.outputs = tuple(dict.fromkeys([*scene.eos.outputs, *(o for t in scene.terms for o in t.outputs)]))
+        if self.dfsph:
+            v, sc, der = dfsph.rows(self.has_shift, any(t.with_walls for t in terms))
+            vectors, scalars, derived = vectors + v, scalars + sc, derived + der
+        self.layout = layout = Layout(vectors, scalars, integers, derived, pressure_derived=not self.dfsph)
+        self.outputs = tuple(dict.fromkeys([*eos.outputs, *(o for t in terms for o in t.outputs)]))
 
         # --- runtime parameter table: engine parameters, then the terms' -----
         rows = {}
         size = 0
-        for name, width in KERNEL_PARAMS + neighbours.PARAMS + timestep.PARAMS + guards.PARAMS:
+        for name, width in (KERNEL_PARAMS + neighbours.PARAMS + timestep.PARAMS + guards.PARAMS
+                            + (dfsph.PARAMS if self.dfsph else ())):
             rows[name] = size
             size += dim if width == "dim" else width
-        for t in scene.terms:
+        for t in terms:
             for name, default in t.params.items():
                 if name in rows:
                     raise ValueError(f"parameter {name!r} is declared twice (by {type(t).__name__})")
@@ -113,15 +124,15 @@ class Solver:
                 size += dim if default == "vector" else 1
         self.param_rows = rows
         self.n_params = size
-        self.material_columns = scene.eos.columns
-        mcols = collections.namedtuple("MaterialColumns", scene.eos.columns)(*range(len(scene.eos.columns)))
+        self.material_columns = eos.columns
+        mcols = collections.namedtuple("MaterialColumns", eos.columns)(*range(len(eos.columns)))
 
         # --- compile-time assembly -------------------------------------------
-        self.eos = scene.eos.bind(layout, mcols)
+        self.eos = eos.bind(layout, mcols)
         rate_rows = collections.namedtuple("RateRows", [r for _, r in self.integrated] or ["none"])(
             *range(max(1, len(self.integrated)))
         )
-        self.terms = [t.bound(layout, rows, mcols, self.eos, rate_rows, self.kernel) for t in scene.terms]
+        self.terms = [t.bound(layout, rows, mcols, self.eos, rate_rows, self.kernel) for t in terms]
         self.passes = []
         for t in self.terms:
             for p in t.passes():
@@ -130,12 +141,12 @@ class Solver:
         self.integrator = integ.bind(layout)
         self.lists = scene.neighbour_skin > 0
         # walls within a short range only (e.g. Lennard-Jones walls): lists keep fewer
-        walls_short = self.lists and "support" not in [t.wall_reach() for t in scene.terms]
+        walls_short = self.lists and "support" not in [t.wall_reach() for t in terms]
         self.grid = neighbours.Grid(dim, real, rows, scene.periodic, self.lists,
                                     layout.q.kind if walls_short else None)
-        viscosity_rows = [rows[t.viscosity_param] for t in scene.terms if t.viscosity_param]
+        viscosity_rows = [rows[t.viscosity_param] for t in terms if t.viscosity_param]
         self.timestep = timestep.TimeStep(rows, self.eos, viscosity_rows)
-        self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic)
+        self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic, compression_only=self.dfsph)
         # rates.acc: dv/dt; rates.d[k]: rate of the k-th integrated scalar (a Taichi
         # vector needs length >= 1, hence the max); rates.shift: a correction to the
         # velocity that moves the particles (XSPH), only if a term provides one.
@@ -145,6 +156,17 @@ class Solver:
         self.Rates = ti.types.struct(**fields)
         self.vec = ti.types.vector(dim, real)
         self.field_sets = []  # the FieldSets allocated for this configuration (taisph.engine.fields)
+
+    def active_terms(self, scene) -> list:
+        """The scene's terms compiled into this solver's kernels (DFSPH: its non-pressure ones)."""
+        return dfsph.kept_terms(scene) if self.dfsph else list(scene.terms)
+
+    def extra_fields(self, field, capacity, list_capacity):
+        """Fields a solver needs beyond :class:`Args` (DFSPH: its pair list and error sums), or None."""
+        if not self.dfsph:
+            return None
+        return dfsph.Extra(pairs.allocate(field, capacity, list_capacity, self.real),
+                           field(ti.f64, (dfsph.CHUNKS, 2)), field(ti.f64, (4,)))
 
     # ------------------------------------------------------------------------
     def param_table(self, scene, grid_lo, grid_cell, controls, dt=None) -> np.ndarray:
@@ -158,7 +180,9 @@ class Solver:
         values.update(neighbours.parameter_values(scene, grid_lo, grid_cell))
         values.update(timestep.parameter_values(controls, dt))
         values.update(guards.parameter_values(scene, controls))
-        for t in scene.terms:
+        if self.dfsph:
+            values.update(dfsph.parameter_values(scene, controls))
+        for t in self.active_terms(scene):
             values.update(t.param_values(dim))
         table = np.zeros(self.n_params)
         for name, value in values.items():
@@ -205,7 +229,10 @@ class Solver:
         return build
 
     def step_kernels(self, fields, serial_sort: bool) -> tuple:
-        """The kernels of one step on `fields` (a FieldSet), in order: sort, the passes, force."""
+        """The kernels of one step on `fields` (a FieldSet), in order: sort, the passes, force
+        (DFSPH: one callable, :class:`taisph.engine.dfsph.Stepper`, which iterates its solves)."""
+        if self.dfsph:
+            return fields.kernel(("dfsph", serial_sort), lambda args: (dfsph.Stepper(self, fields, serial_sort),))
         bodies = [kernels.sort_body(self, serial_sort), *[kernels.pass_body(self, p) for p in self.passes],
                   kernels.force_body(self)]
         return fields.kernel(("step", serial_sort), lambda args: tuple(self.make_kernel(b)(args) for b in bodies))

@@ -63,6 +63,8 @@ class FieldSet:
             field(real, (rows,), vector=True), field(ti.i32, (rows, list_capacity)), field(ti.i32, (rows,)),
             field(ti.i32, (1, 1)), field(real, (1, 1)),  # aux_int, aux_real: given as arguments to aux kernels
         )
+        self.extra = solver.extra_fields(field, capacity, list_capacity)  # DFSPH's pair list, or None
+        self.controls = None  # the host-side settings of the simulation using these fields (State)
         self.tree = fb.finalize()
         self.kernels = {}  # compiled for these fields, by key
         solver.field_sets.append(self)
@@ -80,7 +82,8 @@ class FieldSet:
     def bytes(self) -> int:
         """Memory of the fields (the capacity, not only the particles in use)."""
         total = 0
-        for f in (*self.args[:-2], *self.good):
+        extra = [f for part in (self.extra or ()) for f in (part if isinstance(part, tuple) else (part,))]
+        for f in (*self.args[:-2], *self.good, *extra):
             total += math.prod(f.shape) * (f.n if hasattr(f, "n") else 1) * (4 if f.dtype in (ti.i32, ti.f32) else 8)
         return total
 

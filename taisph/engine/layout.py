@@ -42,11 +42,12 @@ VARIABLE_H = "h"  # per-particle smoothing length, when a term varies it
 class Layout:
     """Row indices of every stored quantity; ``layout.q.name`` is the row of ``name``."""
 
-    def __init__(self, vectors=(), scalars=(), integers=(), derived=()):
+    def __init__(self, vectors=(), scalars=(), integers=(), derived=(), pressure_derived=True):
         self.vectors = _unique(BASE_VECTORS + tuple(vectors))
         self.scalars = _unique(BASE_SCALARS + tuple(scalars))
         self.integers = _unique(BASE_INTEGERS + tuple(integers))
-        self.derived = frozenset(derived) | {"pressure"}  # the equation of state's output
+        # the equation of state's output; DFSPH's pressure comes from its solve and is kept
+        self.derived = frozenset(derived) | ({"pressure"} if pressure_derived else set())
         # rows a step carries from one buffer to the other (all but the derived ones)
         self.carried = tuple(tuple(k for k, name in enumerate(group) if name not in self.derived)
                              for group in (self.vectors, self.scalars, self.integers))

@@ -15,7 +15,7 @@ import numpy as np
 import taichi as ti
 
 from . import fields as fieldpool
-from . import neighbours, runtime
+from . import neighbours, pairs, runtime
 from . import status as st
 from .assembly import Args
 
@@ -25,7 +25,8 @@ class State:
         self.solver, self.runtime = solver, rt
         self.n = scene.n
         self.n_materials = len(scene.materials)
-        self.list_capacity = neighbours.list_capacity(scene) if solver.lists else 1
+        self.list_capacity = (neighbours.list_capacity(scene) if solver.lists
+                              else pairs.capacity(scene) if solver.dfsph else 1)
         self.grid = grid or neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene),
                                                    scene.position)
         self._check_grid(scene, self.grid)
@@ -77,6 +78,10 @@ class State:
         ints[L.q.id] = np.arange(n)
         ints[L.q.material] = scene.material
         ints[L.q.kind] = scene.kind
+        if self.solver.dfsph:  # the first solve starts from the scene's pressure (its initial density)
+            from . import dfsph
+
+            sca[L.q.kappa] = dfsph.initial_kappa(scene)
         for name, values in scene.quantities.items():
             try:
                 kind = L.kind_of(name)
@@ -139,6 +144,7 @@ class State:
 
     def upload_parameters(self, scene, controls, dt=None):
         table = self.solver.param_table(scene, self.grid[0], self.grid[1], controls, dt)
+        self.fields.controls = controls
         self.params.from_numpy(table.astype(self.runtime.numpy_real))
         mat = self.solver.material_table(scene).astype(self.runtime.numpy_real)
         self.mat.from_numpy(np.pad(mat, ((0, self.fields.materials - len(mat)), (0, 0))))

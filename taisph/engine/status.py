@@ -36,4 +36,8 @@ MAX_RECORDED = 16
 FLAGS_SIZE = RECORDS + 2 * MAX_RECORDED
 
 NONFINITE, DENSITY, ESCAPED = 1, 2, 4
-CODE_NAMES = {NONFINITE: "non-finite state", DENSITY: "density error", ESCAPED: "left the domain"}
+# DFSPH (taisph.engine.dfsph): a pressure solve reached its maximum iterations unconverged;
+# a particle had more neighbours than the pair list holds
+UNCONVERGED, CROWDED = 8, 16
+CODE_NAMES = {NONFINITE: "non-finite state", DENSITY: "density error", ESCAPED: "left the domain",
+              UNCONVERGED: "pressure solve did not converge", CROWDED: "neighbour list full"}

@@ -43,6 +43,11 @@ class Controls:
     remove_escaped     remove (and count) particles that leave the domain instead of stopping;
                        None: as the scene says (``Scene.remove_escaped``)
     deterministic      serial (stable) cell sort at every size: bit-reproducible runs
+    dfsph_tolerance    DFSPH: mean density error a constant-density solve stops at (fraction of rho0)
+    dfsph_divergence_tolerance   DFSPH: mean density change per step a divergence solve stops at
+    dfsph_min_iterations, dfsph_max_iterations   DFSPH: iterations of the constant-density solve
+                       at least (the divergence solve: 1) and of either solve at most; a solve
+                       that reaches the maximum unconverged stops the run (taisph.engine.dfsph)
     """
 
     dt: float | None = None
@@ -53,15 +58,33 @@ class Controls:
     max_density_error: float = 0.2
     remove_escaped: bool | None = None
     deterministic: bool = False
+    dfsph_tolerance: float = 0.001
+    dfsph_divergence_tolerance: float = 0.001
+    dfsph_min_iterations: int = 2
+    dfsph_max_iterations: int = 100
+
+
+# DFSPH's CFL number (dt = C h / max |v|; Bender & Koschier 2017 use 0.4): its step
+# follows the flow speed, not the sound speed, and the scene's Courant number is WCSPH's
+DFSPH_COURANT = 0.4
+# and its force factor (dt <= C sqrt(h / |a|), the limit while the flow starts from rest):
+# the pressure solve converges within 100 iterations from rest at dx = 0.0125 with 0.1,
+# not with the weakly compressible 0.25 (a 0.5 m tank)
+DFSPH_FORCE_FACTOR = 0.1
 
 
 def controls_for(scene, **given) -> Controls:
     """The controls of a simulation of `scene`: `given` ones, else the scene's own
-    Courant number (``Scene.courant``: a scene measured to hold a larger one), else the
-    defaults."""
-    if given.get("courant") is None and getattr(scene, "courant", None) is not None:
+    Courant number (``Scene.courant``: a scene measured to hold a larger one; with
+    DFSPH, :data:`DFSPH_COURANT`), else the defaults."""
+    if getattr(scene, "solver", "wcsph") == "dfsph":
+        if given.get("courant") is None:
+            given["courant"] = DFSPH_COURANT
+        if given.get("force_factor") is None:
+            given["force_factor"] = DFSPH_FORCE_FACTOR
+    elif given.get("courant") is None and getattr(scene, "courant", None) is not None:
         given["courant"] = scene.courant
-    given = {k: v for k, v in given.items() if not (k == "courant" and v is None)}
+    given = {k: v for k, v in given.items() if not (k in ("courant", "force_factor") and v is None)}
     return Controls(**given)
 
 
@@ -94,6 +117,8 @@ def initial_dt(scene, controls: Controls | None = None, courant: float | None = 
     h = scene.smallest_smoothing_length()
     max_sound_speed = getattr(scene.eos, "max_sound_speed", None)
     c_max = max_sound_speed(scene) if max_sound_speed else max(m.c0 for m in scene.materials)
+    if getattr(scene, "solver", "wcsph") == "dfsph":
+        c_max = 0.0  # incompressible: the step follows the flow speed
     v_max = float(np.max(np.linalg.norm(scene.velocity, axis=1), initial=0.0))
     g = max([float(np.linalg.norm(t.values["gravity"])) for t in scene.terms if "gravity" in t.values] + [0.0])
     dt = stable_dt(h, c_max + v_max, g, kinematic_viscosity(scene.terms),

@@ -70,6 +70,7 @@ class RunSummary:
     list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
     fluid_mass: float = float("nan")  # of the fluid particles still simulated, at the end
     removed_mass: float = 0.0  # of the particles removed so far
+    pressure_solve: dict | None = None  # DFSPH: iterations per step and errors (dfsph.Stats.summary)
 
     @property
     def particle_steps_per_second(self) -> float:
@@ -85,6 +86,12 @@ class RunSummary:
         if self.removed:
             removed += (f" + {self.removed_mass:.4g} kg removed ({self.removed} particles left the domain) "
                         f"= {self.fluid_mass + self.removed_mass:.6g} kg")
+        if self.pressure_solve:
+            ps = self.pressure_solve
+            removed += (f", DFSPH iterations per step: density {ps['density_iterations_mean']:.1f} (max "
+                        f"{ps['density_iterations_max']}), divergence {ps['divergence_iterations_mean']:.1f} (max "
+                        f"{ps['divergence_iterations_max']}), mean density error reached <= "
+                        f"{100 * ps['density_error_max']:.3g} %")
         return (
             f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
             f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "

@@ -75,8 +75,9 @@ class _Runner:
     """Builds a simulation, runs it to sample times, accounts the stepping time.
 
     Besides the case's parameters, `params` may hold ``dt_factor`` (a fixed step of that
-    many times the case's) and ``controls`` (a dict of :class:`taisph.Simulation`
-    controls, e.g. ``{"courant": 0.4}``)."""
+    many times the case's), ``controls`` (a dict of :class:`taisph.Simulation`
+    controls, e.g. ``{"courant": 0.4}``) and ``solver`` ("wcsph" or "dfsph", the
+    scene's ``solver``)."""
 
     def __init__(self, case, params, precision):
         from .. import cases
@@ -84,7 +85,10 @@ class _Runner:
         params = dict(params)
         dt_factor = params.pop("dt_factor", 1.0)
         controls = params.pop("controls", None) or {}
+        solver = params.pop("solver", None)
         self.scene = getattr(cases, case)(**params)
+        if solver is not None:
+            self.scene.solver = solver
         if dt_factor != 1.0:
             self.scene.dt = (self.scene.dt or fixed_dt(self.scene)) * dt_factor
         start = time.perf_counter()
