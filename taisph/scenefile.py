@@ -24,8 +24,8 @@ else:  # pragma: no cover - Python 3.10 (the tomli dependency)
 
 from .mesh import MeshError, load_surface
 
-SOLVERS = ("wcsph",)  # the solvers a scene file can ask for
-COMING = {"dfsph": "DFSPH (divergence-free SPH) is not available yet; use solver = \"wcsph\""}
+SOLVERS = ("wcsph", "dfsph")  # the solvers a scene file can ask for (taisph.Scene.solver)
+COMING = {}  # solvers named but not available yet: name -> message
 WALL_MODELS = ("dummy", "lj")
 PROBE_KINDS = ("pressure", "elevation", "force")
 KERNELS = ("spline", "gaussian", "wendland")

@@ -63,7 +63,7 @@ def build(spec: SceneSpec):
     scene = Scene(name=spec.name, dim=dim, dx=dx, smoothing_length=spec.h_factor * dx,
                   domain=spec.domain or default_domain(spec), materials=materials,
                   terms=_terms(spec, max(g_norm * height, 0.5 * speed**2)), kernel=spec.kernel, integrator=spec.integrator,
-                  dt=spec.dt, t_end=spec.t_end, frames=spec.frames,
+                  dt=spec.dt, t_end=spec.t_end, frames=spec.frames, solver=spec.solver,
                   description=spec.description or f"scene file {spec.path.name}")
     for block, points in zip(spec.fluid, fluid):
         material = materials[block.material]
@@ -222,7 +222,7 @@ def main(argv) -> int:
 def run_file(path: Path, args) -> int:
     from .cli.main import simulate
 
-    overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt")
+    overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "solver")
                  if getattr(args, k) is not None}
     for item in args.set:
         if "=" not in item:

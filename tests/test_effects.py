@@ -29,10 +29,26 @@ def traced_while(build):
 
 def test_unlisted_terms_are_not_compiled():
     bare = traced_while(lambda: taisph.Simulation(bare_scene()).step(1))
-    assert bare == {("continuity", "pair"), ("pressure", "pair"), ("pressure", "derive")}
+    assert bare == {("continuity", "pair"), ("pressure", "pair"), ("pressure", "derive"), ("tait", "eos")}
     full = traced_while(lambda: taisph.Simulation(taisph.cases.dam_break(dx=0.2, seed_physics=True)).step(1))
     assert {("artificial_viscosity", "pair"), ("lennard_jones_wall", "pair"), ("gravity", "body")} <= full
     assert bare < full
+
+
+def test_a_dfsph_kernel_has_no_equation_of_state_and_a_wcsph_kernel_no_dfsph_pass():
+    """Scene(solver="dfsph"): the pressure solve replaces the Tait equation, continuity,
+    the pressure gradient, density diffusion and the dummy walls' extrapolation; the
+    non-pressure terms stay. The weakly compressible step traces no DFSPH pass."""
+    wcsph = traced_while(lambda: taisph.Simulation(taisph.cases.dam_break(dx=0.2)).step(1))
+    assert ("tait", "eos") in wcsph and ("dummy_walls", "pass") in wcsph
+    assert not {name for name, _ in wcsph} & {"dfsph", "incompressible"}
+    scene = taisph.cases.dam_break(dx=0.2)
+    scene.solver = "dfsph"
+    dfsph = traced_while(lambda: taisph.Simulation(scene).step(1))
+    assert {("dfsph", "density"), ("dfsph", "divergence solve"), ("dfsph", "density solve"),
+            ("artificial_viscosity", "pair"), ("gravity", "body")} <= dfsph
+    names = {name for name, _ in dfsph}
+    assert not names & {"tait", "continuity", "pressure", "density_diffusion", "dummy_walls"}
 
 
 def test_unlisted_terms_take_no_memory():

@@ -104,7 +104,6 @@ MISTAKES = [  # (old text, new text, key, value shown, problem)
     ('t_end = 0.2', 't_end = -1.0', "t_end", "-1.0", "must be positive"),
     ('frames = 2', 'frames = 0', "frames", "0", "must be at least 1"),
     ('dim = 2', 'dim = 4', "dim", "4", "expected 2 or 3"),
-    ('solver = "wcsph"', 'solver = "dfsph"', "solver", "'dfsph'", "DFSPH (divergence-free SPH) is not available yet"),
     ('solver = "wcsph"', 'solver = "isph"', "solver", "'isph'", "expected one of 'wcsph'"),
     ('frames = 2', 'frames = 2\nfrmes = 3', "frmes", "3", "unknown key"),
     ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81, 0.0]', "physics.gravity", "[0.0, -9.81, 0.0]",
@@ -182,8 +181,8 @@ def test_the_command_line_refuses_a_bad_file_before_writing_anything(tmp_path, c
     assert cli([str(path), "--out", str(out), "--no-progress"]) == 2
     assert f"{path}: probes[0].at = [0.5, 7.0]" in capsys.readouterr().err
     assert not out.exists()
-    assert cli([str(scene_file(tmp_path)), "--out", str(out), "--set", "solver='dfsph'"]) == 2
-    assert "solver = 'dfsph': DFSPH (divergence-free SPH) is not available yet" in capsys.readouterr().err
+    assert cli([str(scene_file(tmp_path)), "--out", str(out), "--set", "solver='isph'"]) == 2
+    assert "solver = 'isph': expected one of 'wcsph', 'dfsph'" in capsys.readouterr().err
     assert not out.exists()
 
 

@@ -62,6 +62,25 @@ def parse_setting(case: str, item: str) -> tuple[str, object]:
         raise ParameterError(f"--set {item}: {key} must be {params[key].range.describe()}; {err}") from None
 
 
+SOLVERS = ("wcsph", "dfsph")  # taisph.Scene.solver
+
+
+def solver_setting(settings, solver=None):
+    """(the other settings, the solver) from ``--set`` items and ``--solver``: every
+    case takes ``--set solver=NAME`` (a setting of the scene, not a case parameter);
+    the last one given wins, ``--solver`` over ``--set``."""
+    rest, from_set = [], None
+    for item in settings:
+        key, sep, text = item.partition("=")
+        if sep and key.strip().replace("-", "_") == "solver":
+            from_set = text.strip().strip("'\"")
+            if from_set not in SOLVERS:
+                raise ParameterError(f"--set {item}: solver must be one of {', '.join(SOLVERS)}")
+        else:
+            rest.append(item)
+    return rest, solver if solver is not None else from_set
+
+
 def case_arguments(case: str, settings=(), **options) -> dict:
     """Keyword arguments for case `case`: the options given (e.g. dx, kernel; None
     means not given), then each ``--set NAME=VALUE`` of `settings`."""

@@ -27,6 +27,7 @@ examples:
   python -m taisph dam_break                       # defaults; frames in out/dam_break
   python -m taisph dam_break --dx 0.01 --t-end 1 --frames 20 --out run1
   python -m taisph dam_break --set alpha=0.05 --integrator euler --dt 5e-5
+  python -m taisph dam_break --solver dfsph           # incompressible: DFSPH (docs/dfsph.md)
 Open OUT/CASE.pvd in ParaView (File > Open, Apply) to see the time series."""
 
 
@@ -51,7 +52,10 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g.add_argument("--dt", type=POSITIVE, help="fixed time step (s, > 0); default: adaptive (CFL, force and viscous limits)")
     g.add_argument("--frames", type=FRAMES, help="frames to write after the initial one (>= 1; default: the case's)")
     g = parser.add_argument_group("numerics")
-    g.add_argument("--integrator", choices=["euler", "eulermid", "eulermom", "pc"], help="time integrator")
+    g.add_argument("--solver", choices=["wcsph", "dfsph"],
+                   help="wcsph: weakly compressible (the default); dfsph: divergence-free SPH, an implicit "
+                        "incompressible pressure solve (docs/dfsph.md); also --set solver=NAME")
+    g.add_argument("--integrator", choices=["euler", "eulermid", "eulermom", "pc"], help="time integrator (wcsph)")
     g.add_argument("--kernel", choices=["spline", "gaussian", "wendland"], help="smoothing kernel")
     g.add_argument("--precision", choices=["f32", "f64"], default="f64", help="float precision (default f64)")
     g.add_argument("--neighbour-skin", type=SKIN, metavar="F",
@@ -150,8 +154,11 @@ def run_case(name: str, argv) -> int:
     """``python -m taisph CASE [options]``: every option and parameter is checked (and
     the scene built) before anything is compiled or written."""
     args = build_parser(name).parse_args(argv)
-    kwargs = cases.case_arguments(name, args.set, dx=args.dx, integrator=args.integrator, kernel=args.kernel)
+    settings, solver = cases.solver_setting(args.set, args.solver)
+    kwargs = cases.case_arguments(name, settings, dx=args.dx, integrator=args.integrator, kernel=args.kernel)
     scene = cases.find(name)(**kwargs)
+    if solver is not None:
+        scene.solver = solver
     if args.dt is not None:
         scene.dt = args.dt
     return simulate(scene, args)

@@ -282,6 +282,7 @@ class Bodies:
 
         @ti.func
         def body(s_mem: ti.template(), t_target):
+            ti.static(kernels._traced("dfsph", "density"))
             for i in range(s_mem.sizes[4]):
                 kind = s_mem.Si[q.kind, i]
                 if kind == FLUID:
@@ -343,6 +344,7 @@ class Bodies:
 
         @ti.func
         def body(s_mem: ti.template(), t_target):
+            ti.static(kernels._traced("dfsph", "density solve" if density else "divergence solve"))
             for i in range(s_mem.sizes[4]):
                 if s_mem.Si[q.kind, i] == FLUID:
                     s_mem.Sv[q.acc_p, i] = acceleration(s_mem, i, row)

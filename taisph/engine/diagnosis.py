@@ -67,11 +67,27 @@ def collect(sim) -> dict:
         integrator=sim.scene.integrator,
         max_density_error=sim.controls.max_density_error,
         density_error=float(density_error),
+        solver=getattr(sim.scene, "solver", "wcsph"),
+        # DFSPH: the solve that did not converge (taisph.engine.dfsph.Stats.failure)
+        pressure_solve=dict(sim.pressure_solve.stats.failure) if sim.solver.dfsph else {},
     )
 
 
 def likely_causes(sim, report) -> list:
     causes = []
+    failure = report.get("pressure_solve") or {}
+    if "pressure solve did not converge" in report["codes"] and failure:
+        c = sim.controls
+        causes.append(
+            f"the {failure['solve']} solve reached {failure['iterations']} iterations (dfsph_max_iterations) with a "
+            f"mean density error of {100 * failure['error']:.3g} % (tolerance {100 * failure['tolerance']:.3g} %) at "
+            f"dt = {failure['dt']:.3g} s: the step was too large for the solve; give a smaller maximum step "
+            f"(dt_max, e.g. {0.5 * failure['dt']:.2g} s), a smaller CFL number (courant, now {c.courant:g}) or force "
+            f"factor (now {c.force_factor:g}), or allow more iterations (dfsph_max_iterations)")
+    if "neighbour list full" in report["codes"]:
+        causes.append("a particle had more neighbours than DFSPH's pair list holds (taisph.engine.pairs): particles "
+                      "were crushed together, or the walls are sampled more finely than dx (DFSPH needs wall particles "
+                      "dx apart, e.g. dummy-wall layers)")
     fixed = report["dt_fixed"]
     if fixed is not None and fixed > report["dt_stable_min"]:
         causes.append(
@@ -94,22 +110,29 @@ def likely_causes(sim, report) -> list:
             + "for an open domain, run with remove_escaped=True (--remove-escaped) to take them out and "
               "count them"
         )
-    if "density error" in report["codes"]:
+    if "density error" in report["codes"] and report.get("solver") == "dfsph":
+        causes.append(f"the density exceeds rho0 by more than {report['max_density_error']:.0%}: the pressure solve "
+                      "lets particles be crushed; lower dfsph_tolerance or the maximum step (dt_max)")
+    elif "density error" in report["codes"]:
         causes.append(
             f"density departs from rho0 by more than {report['max_density_error']:.0%}: the sound speed c0 is "
             "too low for the flow speed (keep c0 >= 10 |v|max), or particles are being crushed against a "
             "wall; raise c0 or --max-density-error"
         )
-    if not causes:
+    if not causes and report.get("solver") == "dfsph":
+        causes.append("the state diverged; try a smaller maximum step (dt_max) or CFL number (courant)")
+    elif not causes:
         causes.append("the state diverged; try a smaller dt (or the adaptive step) and the pc integrator")
     return causes
 
 
 def explain(sim, report, files=()) -> str:
+    who = (f"{report['count']} fluid particle(s) tripped the guards" if report["count"]
+           else "a guard tripped")
     lines = [
         f"simulation stopped at step {report['step']}, t = {report['time']:.6g} s"
         + (f" (fixed dt = {report['dt_fixed']:.3g} s)" if report["dt_fixed"] else "")
-        + f": {report['count']} fluid particle(s) tripped the guards ("
+        + f": {who} ("
         + ", ".join(report["codes"]) + ")"
         + f"; the last state that passed the guards is from step {report['last_good_step']}, "
         f"t = {report['last_good_time']:.6g} s."

@@ -122,6 +122,7 @@ def _derive(solver):
 
     @ti.func
     def derive(s: ti.template(), i):
+        ti.static(_traced(eos.name, "eos"))
         eos.derive(s, i)
         for t in ti.static(derive_terms):
             ti.static(_traced(t.name, "derive"))
