@@ -136,6 +136,9 @@ def main(argv=None):
     p.add_argument("--skin", type=float, default=None,
                    help="neighbour list skin as a fraction of the support radius (0: no lists; default: the case's)")
     p.add_argument("--cases", default="2d,3d", help="which sizes: 2d, 3d or both (default)")
+    p.add_argument("--compare-splishsplash", action="store_true",
+                   help="taisph's DFSPH and SPlisHSPlasH's on the dam break (dx 0.01, to 0.2 s; tools/compare_splishsplash.py)")
+    p.add_argument("--splishsplash-python", default="python", help="a Python with pysplishsplash (for --compare-splishsplash)")
     args = p.parse_args(argv)
 
     rt = taisph.engine.runtime.init(precision=args.precision, threads=args.threads)
@@ -143,6 +146,11 @@ def main(argv=None):
           f"{platform.machine()}, {os.cpu_count()} cores, {rt.threads} thread(s), {rt.precision}, "
           f"arch {rt.arch}, {time.strftime('%Y-%m-%d %H:%M')}")
     print(f"# command: python tools/bench.py {' '.join(sys.argv[1:] if argv is None else argv)}")
+    if args.compare_splishsplash:  # in its own module: tools/compare_splishsplash.py
+        from compare_splishsplash import compare as compare_splishsplash
+
+        compare_splishsplash(args.splishsplash_python, dx=args.dx, tf=0.2, precision=args.precision)
+        return
     if args.compare:
         compare(args.dx, args.tf, args.pysph_python, args.precision, args.skin)
         return

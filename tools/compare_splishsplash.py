@@ -1,0 +1,92 @@
+"""taisph's DFSPH against SPlisHSPlasH's on the 2D dam break, in the same run.
+
+    python tools/bench.py --compare-splishsplash --splishsplash-python /work/peers/splash-venv/bin/python
+    python tools/compare_splishsplash.py --splishsplash-python ... --dx 0.01 --tf 0.2
+
+Both simulate the 1 m x 2 m column in the 4 m tank at spacing dx from rest to tf
+(issue 14: dx = 0.01, ~20k fluid particles, tf = 0.2 s) with DFSPH and a 0.1 %
+tolerance on both solves, one after the other in the same minute on the same
+machine (2 threads each); each figure is wall seconds per simulated second of the
+stepping: taisph's ``Simulation.run`` after its first (compiling) step, and
+SPlisHSPlasH's summed simulation steps ("Time sum: SimStep" of its log; its
+volume-map construction and set-up excluded). SPlisHSPlasH runs in its own Python
+(``--splishsplash-python``; tools/splishsplash_dam_break.py), with the system libGL
+preloaded (``--libgl``). Prints both, their iterations and time steps, and the ratio
+taisph / SPlisHSPlasH (below 1: taisph is faster).
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+LIBGL = "/usr/lib/x86_64-linux-gnu/libGL.so.1"
+
+
+def run_taisph(dx, tf, precision="f64"):
+    import taichi as ti
+
+    import taisph
+
+    scene = taisph.cases.dam_break(dx=dx)
+    scene.solver = "dfsph"
+    sim = taisph.Simulation(scene, precision=precision)
+    sim.step(1)
+    ti.sync()
+    t1 = sim.time
+    start = time.perf_counter()
+    summary = sim.run(t_end=t1 + tf, frames=1)
+    wall = time.perf_counter() - start
+    ps = summary.pressure_solve
+    out = dict(code="taisph DFSPH", fluid=sim.n_fluid, steps=summary.steps, sim_time=sim.time - t1, wall=wall,
+               sim_step_s=summary.wall_time, dt_mean=summary.dt_mean,
+               density_iterations=ps["density_iterations_mean"], divergence_iterations=ps["divergence_iterations_mean"],
+               bytes_per_particle=sim.bytes_per_particle())
+    sim.close()
+    return out
+
+
+def run_splishsplash(python, dx, tf, libgl=LIBGL):
+    env = dict(os.environ)
+    if libgl:
+        env["LD_PRELOAD"] = libgl
+    cmd = [python, os.path.join(HERE, "splishsplash_dam_break.py"), "--dx", str(dx), "--tf", str(tf)]
+    print(f"# SPlisHSPlasH: LD_PRELOAD={libgl} {' '.join(cmd)}", flush=True)
+    done = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if done.returncode != 0:
+        sys.exit(f"SPlisHSPlasH run failed ({done.returncode}):\n{done.stderr[-2000:]}{done.stdout[-2000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def compare(python, dx=0.01, tf=0.2, precision="f64", libgl=LIBGL):
+    """Run both (taisph first, then SPlisHSPlasH), print the table, return both rows."""
+    ours = run_taisph(dx, tf, precision)
+    theirs = run_splishsplash(python, dx, tf, libgl)
+    print("| code | fluid | steps | mean dt (s) | density / divergence iterations per step | stepping wall s "
+          "| wall s per simulated s |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for r in (ours, theirs):
+        print(f"| {r['code']} | {r['fluid']} | {r['steps']} | {r['dt_mean']:.3g} | {r['density_iterations']:.1f} / "
+              f"{r['divergence_iterations']:.1f} | {r['sim_step_s']:.2f} | {r['sim_step_s'] / r['sim_time']:.1f} |")
+    ratio = (ours["sim_step_s"] / ours["sim_time"]) / (theirs["sim_step_s"] / theirs["sim_time"])
+    print(f"taisph / SPlisHSPlasH wall time per simulated second: x{ratio:.2f} (target <= 1.0, goal <= 0.5)")
+    return ours, theirs
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--splishsplash-python", required=True, help="a Python with pysplishsplash installed")
+    p.add_argument("--dx", type=float, default=0.01)
+    p.add_argument("--tf", type=float, default=0.2)
+    p.add_argument("--precision", choices=["f32", "f64"], default="f64")
+    p.add_argument("--libgl", default=LIBGL, help="preloaded for SPlisHSPlasH ('' for none)")
+    args = p.parse_args(argv)
+    compare(args.splishsplash_python, args.dx, args.tf, args.precision, args.libgl)
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, os.path.dirname(HERE))
+    main()

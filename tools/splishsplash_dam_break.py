@@ -1,0 +1,89 @@
+"""SPlisHSPlasH's DFSPH on taisph's 2D dam break: run in a Python with ``pysplishsplash``.
+
+    LD_PRELOAD=/usr/lib/x86_64-linux-gnu/libGL.so.1 /path/to/splash-venv/bin/python \
+        tools/splishsplash_dam_break.py --dx 0.01 --tf 0.2
+
+Writes a 2D scene (``"sim2D": true``): the 1 m x 2 m water column at the left wall of
+a 4 m x 4 m tank (SPlisHSPlasH's UnitBox.obj scaled (4, 4, 1) and translated
+(2, 2, 0), an inverted wall), particle radius dx/2, DFSPH (simulationMethod 4) with
+maxError = maxErrorV = 0.1 %, volume-map boundaries (boundaryHandlingMethod 2),
+CFL (cflMethod 1, factor 1, step at most 0.005 s), standard viscosity 0.01; runs it
+headless to tf and prints one JSON line from its log (``log/SPH_log.txt``): fluid
+particles, steps, the mean time step, the summed simulation-step time ("Time sum:
+SimStep") and the wall time of the run. Used by ``tools/bench.py --compare-splishsplash``
+(tools/compare_splishsplash.py); SPlisHSPlasH is not a taisph dependency.
+"""
+
+import argparse
+import glob
+import json
+import os
+import re
+import sys
+import tempfile
+import time
+
+
+def scene(dx, box_obj):
+    return {
+        "Configuration": {
+            "sim2D": True, "particleRadius": dx / 2, "timeStepSize": 0.001, "numberOfStepsPerRenderUpdate": 1,
+            "simulationMethod": 4, "boundaryHandlingMethod": 2, "gravitation": [0, -9.81, 0],
+            "cflMethod": 1, "cflFactor": 1, "cflMaxTimeStepSize": 0.005, "enableVTKExport": False,
+            "enablePartioExport": False, "dataExportFPS": 0,
+        },
+        "Materials": [{"id": "Fluid", "viscosityMethod": 1, "viscosity": 0.01}],
+        "DFSPH": {"maxError": 0.1, "maxErrorV": 0.1, "enableDivergenceSolver": True},
+        "RigidBodies": [{"geometryFile": box_obj, "translation": [2, 2, 0], "scale": [4, 4, 1], "color": [0.1, 0.4, 0.6, 1.0],
+                         "isDynamic": False, "isWall": True, "mapInvert": True}],
+        "FluidBlocks": [{"denseMode": 0, "start": [0.0, 0.0, -0.5], "end": [1.0, 2.0, 0.5], "translation": [0, 0, 0],
+                         "scale": [1, 1, 1]}],
+    }
+
+
+def read_log(path):
+    text = open(path).read()
+    sim_step = re.findall(r"Time sum:\s*SimStep\s*:?\s*([0-9.eE+-]+)\s*ms", text)
+    dt = re.findall(r"Total number:\s*Time step size\s*:?\s*([0-9.eE+-]+)", text)
+    avg = re.findall(r"Average\s*:?\s*Time step size\s*:?\s*([0-9.eE+-]+)", text)
+    return text, (float(sim_step[-1]) / 1e3 if sim_step else None), dt, avg
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--dx", type=float, default=0.01)
+    ap.add_argument("--tf", type=float, default=0.2)
+    ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")
+    args = ap.parse_args()
+    import pysplishsplash as sph  # noqa: F401  (needs the system libGL: LD_PRELOAD, see above)
+    import pysplishsplash.Exec as Exec
+
+    data = os.path.join(os.path.dirname(sys.executable), "data")
+    box = os.path.join(data, "models", "UnitBox.obj")
+    out = args.out or tempfile.mkdtemp(prefix="splash-dam-break-")
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "dam_break_2d.json")
+    with open(path, "w") as f:
+        json.dump(scene(args.dx, box), f, indent=1)
+    base = Exec.SimulatorBase()
+    base.init(["SPlisHSPlasH", "--no-gui", "--no-initial-pause", "--stopAt", str(args.tf), "--output-dir", out, path],
+              "SPlisHSPlasH")
+    start = time.perf_counter()
+    base.run()
+    wall = time.perf_counter() - start
+    log = sorted(glob.glob(os.path.join(out, "log", "*.txt")))[-1]
+    text, sim_step, _, _ = read_log(log)
+    fluid = re.findall(r"Number of fluid particles:\s*([0-9]+)", text)
+    mean_dt = re.findall(r"Average number:\s*Time step size:\s*([0-9.eE+-]+)", text)
+    iterations = re.findall(r"Average number:\s*DFSPH - iterations:\s*([0-9.eE+-]+)", text)
+    iterations_v = re.findall(r"Average number:\s*DFSPH - iterationsV:\s*([0-9.eE+-]+)", text)
+    dt_mean = float(mean_dt[-1]) if mean_dt else None
+    print(json.dumps(dict(code="SPlisHSPlasH DFSPH", dx=args.dx, sim_time=args.tf, wall=wall, sim_step_s=sim_step,
+                          steps=round(args.tf / dt_mean) if dt_mean else None, dt_mean=dt_mean,
+                          fluid=int(fluid[0]) if fluid else None,
+                          density_iterations=float(iterations[-1]) if iterations else None,
+                          divergence_iterations=float(iterations_v[-1]) if iterations_v else None, log=log)))
+
+
+if __name__ == "__main__":
+    main()
