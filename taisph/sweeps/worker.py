@@ -72,6 +72,8 @@ def _scene(task: Task):
     factory = resolve_case(task.case)
     accepted = inspect.signature(factory).parameters
     scene = factory(**{k: v for k, v in task.params.items() if k in accepted})
+    if task.params.get("solver") is not None:  # a validation run's (taisph.validation.runs)
+        scene.solver = task.params["solver"]
     settings = task.settings
     if settings.get("dt") is not None:
         scene.dt = settings["dt"]

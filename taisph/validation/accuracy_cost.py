@@ -59,6 +59,10 @@ STUDY = {
             ("Gaussian", dict(kernel="gaussian"), F64),
             ("eulermid, dt/4", dict(integrator="eulermid", dt_factor=0.25), F64),
             ("f32", {}, F32),
+            # DFSPH (docs/dfsph.md): the default physics' walls, its non-pressure terms
+            ("DFSPH, dummy walls + wall friction", dict(walls="dummy", wall_friction=True, solver="dfsph"), F64),
+            ("WCSPH default: dummy walls, friction, delta 0.1", dict(walls="dummy", wall_friction=True, delta=0.1,
+                                                                     controls=dict(courant=0.4)), F64),
         ],
     ),
     "hydrostatic_tank": dict(
@@ -72,6 +76,7 @@ STUDY = {
             ("Gaussian", dict(kernel="gaussian"), F64),
             ("eulermid, dt/4", dict(integrator="eulermid", dt_factor=0.25), F64),
             ("f32", {}, F32),
+            ("DFSPH", dict(solver="dfsph"), F64),
         ],
     ),
     "poiseuille": dict(
@@ -96,6 +101,7 @@ STUDY = {
             ("Gaussian", dict(kernel="gaussian"), F64),
             ("eulermid", dict(integrator="eulermid"), F64),
             ("f32", {}, F32),
+            ("DFSPH", dict(solver="dfsph"), F64),
         ],
     ),
     "taylor_green": dict(
