@@ -1,0 +1,3 @@
+
+b = particle_arrays['fluid']
+b.scalar = 'vmag'
