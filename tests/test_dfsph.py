@@ -118,7 +118,8 @@ def test_memory_and_pair_list_capacity():
     sim = taisph.Simulation(dfsph_scene(dx=0.1))
     k = pairs.capacity(sim.scene)
     assert k == 32  # 2D, h = 1.3 dx: 20 neighbours on the lattice, 21.2 in a disc
-    assert sim.bytes_per_particle() == 3 * (6 * 16 + 7 * 8 + 3 * 4) + 4 + 4 + 32 * 12
+    # 6 vectors, 8 scalars, 3 integers (current, sorted, last good), cell, list count and entries
+    assert sim.bytes_per_particle() == 3 * (6 * 16 + 8 * 8 + 3 * 4) + 4 + 4 + 32 * 12 == 908
 
 
 def test_the_rest_density_is_the_lattice_s():
@@ -150,8 +151,9 @@ def test_a_moving_wall_drives_the_fluid_couette():
 
 def test_a_scene_file_may_ask_for_dfsph(tmp_path, capsys):
     from taisph.scenefile import load
+    from taisph.scenefile_build import find_scene_file
 
-    path = taisph.scenefile_build.find_scene_file("dam_break_probes_2d.toml")
+    path = find_scene_file("dam_break_probes_2d.toml")
     scene, settings = load(path, {"solver": "dfsph", "dx": 0.1})
     assert scene.solver == settings.solver == "dfsph"
     assert cli.main([str(path), "--solver", "dfsph", "--dx", "0.1", "--t-end", "0.02", "--frames", "1",

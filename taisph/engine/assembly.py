@@ -145,6 +145,8 @@ class Solver:
         self.grid = neighbours.Grid(dim, real, rows, scene.periodic, self.lists,
                                     layout.q.kind if walls_short else None)
         viscosity_rows = [rows[t.viscosity_param] for t in terms if t.viscosity_param]
+        if self.dfsph:  # artificial viscosity's equivalent (engine/dfsph.py)
+            viscosity_rows.append(rows["dfsph_nu_art"])
         self.timestep = timestep.TimeStep(rows, self.eos, viscosity_rows)
         self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic, compression_only=self.dfsph)
         # rates.acc: dv/dt; rates.d[k]: rate of the k-th integrated scalar (a Taichi

@@ -51,10 +51,12 @@ a solve that reaches the maximum unconverged stops the run through the guards
 pressures (warm start, BK17 sec. 4.3) times ``WARM_START``. Particles with fewer than
 ``MIN_NEIGHBOURS`` neighbours (splashes) get no divergence correction.
 
-The time step: dt = min(C h / max|v|, 0.25 sqrt(h / max|a_nonpressure|),
-0.125 h^2 / nu, dt_max) (:mod:`.timestep`, the same formula as the weakly
-compressible step with the signal speed |v| in place of c + |v|), C = 0.4 by default
-(BK17's CFL number; the ``courant`` control).
+The time step: dt = min(C h / max|v|, 0.1 sqrt(h / |g|), 0.125 h^2 / nu, dt_max)
+(:mod:`.timestep`, the same formula as the weakly compressible step with the signal
+speed |v| in place of c + |v|, the body forces as the acceleration, and nu the largest
+of the laminar viscosity and the artificial viscosity's alpha h c0 / (2 (d + 2))),
+C = 0.3 by default (0.39 dx: BK17's CFL number 0.4 particle diameters; the ``courant``
+control).
 
 Walls are particles that carry a volume, m_b / rho0 (their mass as given: the
 lattice of the tank's three layers dx apart has the fluid's volume per particle),
@@ -85,7 +87,8 @@ DEFAULTS = dict(
     dfsph_relaxation=0.5,  # omega of the Jacobi update
     dfsph_increase_only=0.0,  # 1: a solve only raises pressures (SPlisHSPlasH's min(residual, 0))
     dfsph_surface_hold=1.0,  # 1: a particle short of rho0 (free surface) must not be compressed either
-    dfsph_rest_ratio=-1.0,  # the density the solve aims at over rho0; < 0: the lattice's (lattice_ratio)
+    dfsph_rest_ratio=-1.0,
+    dfsph_nu_art=-1.0,  # the artificial viscosity's kinematic viscosity for the dt limit; < 0: from the scene  # the density the solve aims at over rho0; < 0: the lattice's (lattice_ratio)
 )
 PARAMS = tuple((name, 1) for name in DEFAULTS)
 Extra = collections.namedtuple("Extra", "pairs part result")  # a field set's DFSPH fields (Solver.extra_fields)
@@ -149,8 +152,8 @@ def rows(has_shift: bool, wall_velocity: bool):
     acceleration, the predicted velocity v*, the XSPH shift and the walls' no-slip
     velocity if a kept term needs them."""
     vectors = ["acc_p", "vstar", "gsum"] + (["shift"] if has_shift else []) + (["wall_velocity"] if wall_velocity else [])
-    scalars = ["kappa", "kappa_v", "alpha", "source"]
-    derived = ["acc_p", "vstar", "gsum", "shift", "wall_velocity", "alpha", "source"]
+    scalars = ["kappa", "kappa_v", "alpha", "source"] + (["wall_weight"] if wall_velocity else [])
+    derived = ["acc_p", "vstar", "gsum", "shift", "wall_velocity", "wall_weight", "alpha", "source"]
     return vectors, scalars, derived
 
 
@@ -198,7 +201,21 @@ def parameter_values(scene, controls) -> dict:
         values["dfsph_min_neighbours"] = MIN_NEIGHBOURS[scene.dim]
     if values["dfsph_rest_ratio"] < 0:
         values["dfsph_rest_ratio"] = lattice_ratio(scene)
+    if values["dfsph_nu_art"] < 0:
+        values["dfsph_nu_art"] = artificial_viscosity_nu(scene)
     return values
+
+
+def artificial_viscosity_nu(scene) -> float:
+    """The kinematic viscosity of Monaghan's artificial viscosity, alpha h c0 / (2 (d + 2))
+    (Monaghan 2005 sec. 4.6), the largest c0 of the materials; 0 without the term. Its
+    explicit step limit 0.125 h^2 / nu joins the time step's (it replaces the force limit
+    of the viscous accelerations)."""
+    term = scene.terms_by_name.get("artificial_viscosity")
+    if term is None:
+        return 0.0
+    c0 = max(m.c0 for m in scene.materials)
+    return float(term.values.get("alpha", 0.1)) * scene.smoothing_length * c0 / (2 * (scene.dim + 2))
 
 
 # --- the kernel bodies -----------------------------------------------------------------
@@ -210,6 +227,7 @@ class _DensityVisitor:
         self.q = solver.layout.q
         self.kern = solver.kernel
         self.plist = plist
+        self.wall_velocity = "wall_velocity" in solver.layout.vectors
         self.p_inv_h = solver.param_rows["inv_h"]
         self.p_w_norm = solver.param_rows["w_norm"]
         self.p_grad_norm = solver.param_rows["grad_norm"]
@@ -223,34 +241,48 @@ class _DensityVisitor:
             mj = s.Ss[q.mass, j]
             coef = mj * s.params[self.p_grad_norm] * self.kern.g(x)
             g = coef * rij
-            acc.rho += mj * s.params[self.p_w_norm] * self.kern.f(x)
-            acc.div += (s.Sv[q.velocity, i] - s.Sv[q.velocity, j]).dot(g)
+            f = self.kern.f(x)
+            acc.rho += mj * s.params[self.p_w_norm] * f
+            vi = s.Sv[q.velocity, i]
+            acc.div += (vi - s.Sv[q.velocity, j]).dot(g)
             if kind == FLUID:
                 acc.gf += g
                 acc.g2 += g.dot(g)
             else:
                 acc.gb += g
+                if ti.static(self.wall_velocity):  # the wall's no-slip velocity: sum_f W v_f, sum_f W
+                    ti.atomic_add(s.Ss[q.wall_weight, j], f)
+                    ti.atomic_add(s.Sv[q.wall_velocity, j], f * vi)
             self.plist.store(s, i, acc.k, j, coef)
             acc.k += 1
 
 
 @ti.data_oriented
-class _WallVelocity:
-    """No-slip velocity of a wall particle from the fluid around it (Adami et al. 2012
-    eq. 22-23): v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf."""
+class _NonPressure:
+    """Step 3's visitor of the pair list: the scene's pair terms (as the weakly
+    compressible force pass sums them) and the walls' hydrostatic head."""
 
     def __init__(self, solver):
         self.q = solver.layout.q
-        self.kern = solver.kernel
-        self.p_inv_h = solver.param_rows["inv_h"]
+        self.terms = [t for t in solver.terms if t.has_pair]
+        self.p_gravity = solver.param_rows.get("gravity")
+        self.head = self.p_gravity is not None
+        self.p_head = solver.param_rows["dfsph_wall_head"]
 
     @ti.func
-    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
-        if s.Si[self.q.kind, j] == FLUID:
-            w = self.kern.f(ti.sqrt(r2) * s.params[self.p_inv_h])
-            acc[0] += w
-            for d in ti.static(range(acc.n - 1)):
-                acc[1 + d] += w * s.Sv[self.q.velocity, j][d]
+    def visit(self, s: ti.template(), i, j, rij, r2, coef, rates: ti.template()):
+        """Pair (i, j) of the list, with coef = m_j F(r_ij) (grad_i W_ij = F r_ij): the
+        gradient needs no kernel evaluation (it cost the non-pressure pass 30 %)."""
+        r = ti.sqrt(r2)
+        grad = (coef / s.Ss[self.q.mass, j]) * rij
+        for t in ti.static(self.terms):
+            ti.static(kernels._traced(t.name, "pair"))
+            t.pair(s, i, j, rij, r, grad, rates)
+        if ti.static(self.head):
+            if s.Si[self.q.kind, j] == WALL and s.params[self.p_head] > 0.0:
+                # p_wall - p_i = rho_i g . (x_wall - x_i): a_i -= m_b (that / rho_i^2) grad W
+                g = ti.Vector([s.params[self.p_gravity + d] for d in ti.static(range(rij.n))])
+                rates.acc += (coef * g.dot(rij) / s.Ss[self.q.density, i]) * rij
 
 
 class Bodies:
@@ -280,9 +312,16 @@ class Bodies:
         p = self.p
         local = self.local
 
+        wall_velocity = self.wall_velocity
+
         @ti.func
         def body(s_mem: ti.template(), t_target):
             ti.static(kernels._traced("dfsph", "density"))
+            if ti.static(wall_velocity):
+                for i in range(s_mem.sizes[4]):
+                    if s_mem.Si[q.kind, i] != FLUID:
+                        s_mem.Ss[q.wall_weight, i] = 0.0
+                        s_mem.Sv[q.wall_velocity, i] = ti.Vector.zero(real, dim)
             for i in range(s_mem.sizes[4]):
                 kind = s_mem.Si[q.kind, i]
                 if kind == FLUID:
@@ -411,14 +450,11 @@ class Bodies:
         p = self.p
         local = self.local
         acceleration = self._acceleration()
-        visitor = kernels._ForceSum(solver, [t for t in solver.terms if t.has_pair])
+        visitor = _NonPressure(solver)
         body_terms = [t for t in solver.terms if t.has_body]
         Rates = solver.Rates
-        wall_visitor = _WallVelocity(solver)
         rho0_col = solver.eos.m.rho0
         wall_velocity, has_shift = self.wall_velocity, self.has_shift
-        head = self.gravity_row is not None
-        gravity_row = self.gravity_row
 
         @ti.func
         def body(s_mem: ti.template(), t_target):
@@ -427,15 +463,15 @@ class Bodies:
                 if s_mem.Si[q.kind, i] == FLUID:
                     s_mem.Sv[q.velocity, i] += dt * acceleration(s_mem, i, q.kappa_v)
             if ti.static(wall_velocity):
+                # no-slip velocity of the walls (Adami et al. 2012 eq. 22-23), from the sums
+                # the fluid scattered in step 1: v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf
                 for i in range(s_mem.sizes[4]):
                     if s_mem.Si[q.kind, i] == WALL:
-                        s = ti.static(s_mem._replace(params=local(s_mem)))
-                        acc = ti.Vector.zero(real, dim + 1)
-                        grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p["support2"]], wall_visitor, acc)
-                        ghost = s.Sv[q.velocity, i]
-                        if acc[0] > 0.0:
-                            ghost = 2.0 * ghost - ti.Vector([acc[1 + d] for d in ti.static(range(dim))]) / acc[0]
-                        s.Sv[q.wall_velocity, i] = ghost
+                        ghost = s_mem.Sv[q.velocity, i]
+                        weight = s_mem.Ss[q.wall_weight, i]
+                        if weight > 0.0:
+                            ghost = 2.0 * ghost - s_mem.Sv[q.wall_velocity, i] / weight
+                        s_mem.Sv[q.wall_velocity, i] = ghost
             for i in range(s_mem.sizes[4]):
                 if s_mem.Si[q.kind, i] == FLUID:
                     s = ti.static(s_mem._replace(params=local(s_mem)))
@@ -443,24 +479,16 @@ class Bodies:
                     for t in ti.static(body_terms):
                         ti.static(kernels._traced(t.name, "body"))
                         t.body(s, i, rates)
-                    xi = s.Sv[q.position, i]
-                    plist.for_each(s, i, xi, visitor, rates)
-                    if ti.static(head):
-                        if s.params[p["dfsph_wall_head"]] > 0.0:
-                            g = ti.Vector([s.params[gravity_row + d] for d in ti.static(range(dim))])
-                            h_acc = ti.Vector.zero(real, dim)
-                            for k in range(f.count[i]):
-                                j = f.nbr[i, k]
-                                if s.Si[q.kind, j] == WALL:
-                                    rij = grid.separation(s, xi, s.Sv[q.position, j])
-                                    h_acc += (f.coef[i, k] * g.dot(rij)) * rij
-                            rates.acc += h_acc / s.Ss[q.density, i]
-                    s.Sv[q.vstar, i] = s.Sv[q.velocity, i] + dt * rates.acc
-                    if ti.static(has_shift):
-                        s.Sv[q.shift, i] = rates.shift
+                    # the force limit of dt follows the body forces (gravity): the viscous
+                    # terms have their own limit, 0.125 h^2 / nu (timestep.py)
                     acc2 = ti.cast(rates.acc.norm_sqr(), ti.f64)
                     if acc2 > s.status[st.MAX_ACC2]:
                         ti.atomic_max(s.status[st.MAX_ACC2], acc2)
+                    xi = s.Sv[q.position, i]
+                    plist.for_each(s, i, xi, visitor, rates)
+                    s.Sv[q.vstar, i] = s.Sv[q.velocity, i] + dt * rates.acc
+                    if ti.static(has_shift):
+                        s.Sv[q.shift, i] = rates.shift
             for i in range(s_mem.sizes[4]):
                 if s_mem.Si[q.kind, i] == FLUID:
                     s = ti.static(s_mem._replace(params=local(s_mem)))

@@ -76,9 +76,10 @@ class PairList:
 
     @ti.func
     def for_each(self, s: ti.template(), i, xi, visitor: ti.template(), acc: ti.template()):
-        """``visitor.visit(s, i, j, rij, r2, acc)`` for every stored pair of i (at xi),
-        like :meth:`taisph.engine.neighbours.Grid.for_each_neighbour`."""
+        """``visitor.visit(s, i, j, rij, r2, coef, acc)`` for every stored pair of i (at
+        xi), like :meth:`taisph.engine.neighbours.Grid.for_each_neighbour` and with the
+        pair's stored coefficient m_j F(r_ij)."""
         for k in range(self.f.count[i]):
             j = self.f.nbr[i, k]
             rij = self.grid.separation(s, xi, s.Sv[self.position, j])
-            visitor.visit(s, i, j, rij, rij.norm_sqr(), acc)
+            visitor.visit(s, i, j, rij, rij.norm_sqr(), self.f.coef[i, k], acc)
