@@ -3,6 +3,7 @@
     python tools/accuracy_cost.py                  # full study (< 30 min on 2 cores), writes docs/accuracy/
     python tools/accuracy_cost.py --quick --out /tmp/study   # CI: dam_break and poiseuille, small sizes
     python tools/accuracy_cost.py --cases poiseuille couette --out /tmp/study
+    python tools/accuracy_cost.py --cases dam_break hydrostatic_tank couette --only DFSPH "WCSPH default" --out docs/accuracy/dfsph
     python tools/accuracy_cost.py --workers 2                  # two runs at a time on this machine
     python tools/accuracy_cost.py --scheduler tcp://host:8786   # spread over a Dask cluster (docs/sweeps.md)
 
@@ -38,11 +39,14 @@ def main(argv=None):
                        help="runs at a time, each in a worker process of a local Dask cluster (default 1)")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on an existing Dask cluster (dask scheduler / dask worker), e.g. tcp://host:8786")
+    p.add_argument("--only", nargs="+", metavar="WORD",
+                   help="only the configurations whose label contains one of these words (e.g. DFSPH 'WCSPH default')")
     args = p.parse_args(argv)
 
     command = "python tools/accuracy_cost.py" + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip()
     return accuracy_cost.run_study(args.out, cases=args.cases, quick=args.quick, repeat=args.repeat, command=command,
-                                   workers=args.workers, scheduler=args.scheduler, threads=args.threads)
+                                   workers=args.workers, scheduler=args.scheduler, threads=args.threads,
+                                   only=args.only)
 
 
 if __name__ == "__main__":

@@ -139,11 +139,20 @@ FIELDS = ["case", "config", "precision", "dx", "fluid_particles", "particles", "
           "particle_steps_per_s", "error", "error_name", "diverged", "params", "metrics", "failure"]
 
 
-def plan(cases, quick):
+def variants_of(case, quick, only=None):
+    """The configurations of `case` the study runs: all, the first QUICK_VARIANTS with
+    `quick`, or those whose label contains one of the words of `only`."""
+    variants = STUDY[case]["variants"][:QUICK_VARIANTS] if quick else STUDY[case]["variants"]
+    if only:
+        variants = [v for v in variants if any(word in v[0] for word in only)]
+    return variants
+
+
+def plan(cases, quick, only=None):
     runs = []
     for case in cases:
         spec = STUDY[case]
-        variants = spec["variants"][:QUICK_VARIANTS] if quick else spec["variants"]
+        variants = variants_of(case, quick, only)
         levels = spec["quick"] if quick else spec["levels"]
         for label, change, precision in variants:
             params = {**spec["fixed"], **spec["base"], **change}
@@ -270,7 +279,7 @@ def git_commit():
 
 def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
               command: str = "taisph.validation.accuracy_cost.run_study", workers: int = 1,
-              scheduler: str | None = None, threads: int | None = None, client=None) -> list[dict]:
+              scheduler: str | None = None, threads: int | None = None, client=None, only=None) -> list[dict]:
     """Run the study of `cases` (default: all; with `quick`: dam_break and poiseuille,
     two configurations each, small sizes), write its CSV, table and plots in folder
     `out`, print one line per run, and return the rows. `command` is how the study was
@@ -286,7 +295,8 @@ def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
     cases = list(cases or (QUICK_CASES if quick else STUDY))
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
-    runs = plan(cases, quick)
+    runs = plan(cases, quick, only)
+    cases = [c for c in cases if any(r["case"] == c for r in runs)]
     print(f"{len(runs)} runs: {', '.join(cases)}", flush=True)
     load_start = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     start = time.perf_counter()
@@ -315,7 +325,7 @@ def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
     order = {}
     for case in cases:
         spec = STUDY[case]
-        for label, _, _ in (spec["variants"][:QUICK_VARIANTS] if quick else spec["variants"]):
+        for label, _, _ in variants_of(case, quick, only):
             for dx in (spec["quick"] if quick else spec["levels"]):
                 order[(case, label, dx)] = len(order)
     rows.sort(key=lambda r: order[(r["case"], r["config"], r["dx"])])
