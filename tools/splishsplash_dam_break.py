@@ -24,6 +24,9 @@ import tempfile
 import time
 
 
+MAP_RESOLUTION = [20, 20, 20]  # the volume map's grid (SPlisHSPlasH's default)
+
+
 def scene(dx, box_obj):
     return {
         "Configuration": {
@@ -35,7 +38,7 @@ def scene(dx, box_obj):
         "Materials": [{"id": "Fluid", "viscosityMethod": 1, "viscosity": 0.01}],
         "DFSPH": {"maxError": 0.1, "maxErrorV": 0.1, "enableDivergenceSolver": True},
         "RigidBodies": [{"geometryFile": box_obj, "translation": [2, 2, 0], "scale": [4, 4, 1], "color": [0.1, 0.4, 0.6, 1.0],
-                         "isDynamic": False, "isWall": True, "mapInvert": True}],
+                         "isDynamic": False, "isWall": True, "mapInvert": True, "mapResolution": MAP_RESOLUTION}],
         "FluidBlocks": [{"denseMode": 0, "start": [0.0, 0.0, -0.5], "end": [1.0, 2.0, 0.5], "translation": [0, 0, 0],
                          "scale": [1, 1, 1]}],
     }
@@ -54,6 +57,8 @@ def main():
     ap.add_argument("--dx", type=float, default=0.01)
     ap.add_argument("--tf", type=float, default=0.2)
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")
+    ap.add_argument("--map-resolution", type=int, nargs=3, default=MAP_RESOLUTION,
+                    help="the walls' volume map grid (default: SPlisHSPlasH's 20 20 20)")
     args = ap.parse_args()
     import pysplishsplash as sph  # noqa: F401  (needs the system libGL: LD_PRELOAD, see above)
     import pysplishsplash.Exec as Exec
@@ -64,7 +69,9 @@ def main():
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "dam_break_2d.json")
     with open(path, "w") as f:
-        json.dump(scene(args.dx, box), f, indent=1)
+        description = scene(args.dx, box)
+        description["RigidBodies"][0]["mapResolution"] = args.map_resolution
+        json.dump(description, f, indent=1)
     base = Exec.SimulatorBase()
     base.init(["SPlisHSPlasH", "--no-gui", "--no-initial-pause", "--stopAt", str(args.tf), "--output-dir", out, path],
               "SPlisHSPlasH")
