@@ -45,8 +45,9 @@ def test_a_dfsph_kernel_has_no_equation_of_state_and_a_wcsph_kernel_no_dfsph_pas
     scene = taisph.cases.dam_break(dx=0.2)
     scene.solver = "dfsph"
     dfsph = traced_while(lambda: taisph.Simulation(scene).step(1))
-    assert {("dfsph", "density"), ("dfsph", "divergence solve"), ("dfsph", "density solve"),
-            ("artificial_viscosity", "pair"), ("gravity", "body")} <= dfsph
+    # (the divergence solve compiles when it first has work: not in a first step from rest)
+    assert {("dfsph", "density"), ("dfsph", "density solve"), ("artificial_viscosity", "pair"),
+            ("gravity", "body")} <= dfsph
     names = {name for name, _ in dfsph}
     assert not names & {"tait", "continuity", "pressure", "density_diffusion", "dummy_walls"}
 

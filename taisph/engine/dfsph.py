@@ -37,19 +37,25 @@ fluid and wall particles; ``g_ij = m_j grad_i W_ij``):
 Both solves are Jacobi iterations: each iteration computes a(k) for every particle
 (one pass over the pairs) and then the residual r_i and the update (another pass),
 
-       k_i <- max(0, k_i + r_i / (dt^n D_i)),     n = 1 (divergence), 2 (density),
+       k_i <- max(0, k_i + omega r_i / (dt^n D_i)),     n = 1 (divergence), 2 (density),
 
-r_i the predicted density rate (divergence) or predicted density minus rho0; an
-iteration is one kernel launch, and the host reads the mean error (one f64) to
-decide whether to stop (:class:`Stepper`): the mean over fluid particles of
-max(r_i, 0) dt / rho0 (divergence) or max(r_i, 0) / rho0 (density, the "mean
-compression" of BK17), against the tolerances ``dfsph_divergence_tolerance`` and
-``dfsph_tolerance`` (0.1 %), with at least ``dfsph_min_iterations`` (2 for the
-density solve, 1 for the divergence solve) and at most ``dfsph_max_iterations``:
-a solve that reaches the maximum unconverged stops the run through the guards
-(``UNCONVERGED``, :mod:`.diagnosis`). Each solve starts from the last step's
-pressures (warm start, BK17 sec. 4.3) times ``WARM_START``. Particles with fewer than
-``MIN_NEIGHBOURS`` neighbours (splashes) get no divergence correction.
+omega = 0.5 (a projected Jacobi iteration: pressures may fall, never below zero), r_i
+the predicted density rate (divergence) or the predicted density minus the rest
+density (the lattice's, :func:`lattice_ratio`; a particle short of it, as at a free
+surface, must keep its density instead); an iteration is one kernel launch, and the
+host reads the mean error (one f64) to decide whether to stop (:class:`Stepper`): the
+mean over fluid particles of |r_i| where the pressure is positive, max(r_i, 0)
+elsewhere, times dt / rho0 (divergence) or over rho0 (density), against the
+tolerances ``dfsph_divergence_tolerance`` (0.1 %) and ``dfsph_tolerance`` (0.02 %),
+with at least ``dfsph_min_iterations`` (2) density iterations and at most
+``dfsph_max_iterations`` (300) of either; the divergence solve is skipped when its
+error is within the tolerance before any iteration. A solve that reaches the maximum
+unconverged stops the run through the guards (``UNCONVERGED``, :mod:`.diagnosis`).
+Each solve starts from the last step's pressures (warm start, BK17 sec. 4.3; the first
+from the scene's initial pressure, :func:`initial_kappa`). Particles with fewer than
+7 (2D) or 20 (3D) neighbours (splashes) get no divergence correction. The measured
+choices behind each of these are in docs/dfsph.md; ``DEFAULTS`` holds the device
+parameters that select them.
 
 The time step: dt = min(C h / max|v|, 0.1 sqrt(h / |g|), 0.125 h^2 / nu, dt_max)
 (:mod:`.timestep`, the same formula as the weakly compressible step with the signal
@@ -88,7 +94,8 @@ DEFAULTS = dict(
     dfsph_increase_only=0.0,  # 1: a solve only raises pressures (SPlisHSPlasH's min(residual, 0))
     dfsph_surface_hold=1.0,  # 1: a particle short of rho0 (free surface) must not be compressed either
     dfsph_rest_ratio=-1.0,
-    dfsph_nu_art=-1.0,  # the artificial viscosity's kinematic viscosity for the dt limit; < 0: from the scene  # the density the solve aims at over rho0; < 0: the lattice's (lattice_ratio)
+    dfsph_nu_art=-1.0,
+    dfsph_divergence_tolerance=-1.0,  # the control of that name (set from the controls)  # the artificial viscosity's kinematic viscosity for the dt limit; < 0: from the scene  # the density the solve aims at over rho0; < 0: the lattice's (lattice_ratio)
 )
 PARAMS = tuple((name, 1) for name in DEFAULTS)
 Extra = collections.namedtuple("Extra", "pairs part result")  # a field set's DFSPH fields (Solver.extra_fields)
@@ -203,6 +210,8 @@ def parameter_values(scene, controls) -> dict:
         values["dfsph_rest_ratio"] = lattice_ratio(scene)
     if values["dfsph_nu_art"] < 0:
         values["dfsph_nu_art"] = artificial_viscosity_nu(scene)
+    if values["dfsph_divergence_tolerance"] < 0:
+        values["dfsph_divergence_tolerance"] = controls.dfsph_divergence_tolerance
     return values
 
 
@@ -313,6 +322,7 @@ class Bodies:
         local = self.local
 
         wall_velocity = self.wall_velocity
+        rho0_col = self.solver.eos.m.rho0
 
         @ti.func
         def body(s_mem: ti.template(), t_target):
@@ -349,6 +359,30 @@ class Bodies:
                     s_mem.Sv[q.acc_p, i] = ti.Vector.zero(real, dim)
                     s_mem.Sv[q.vstar, i] = s_mem.Sv[q.velocity, i]
                     x.pairs.count[i] = 0
+            # the divergence error before any iteration (result[1]): within the tolerance, the
+            # divergence solve has nothing to do (the host skips it, and ``middle`` with it)
+            for c in range(CHUNKS):
+                dt = ti.cast(s_mem.status[st.DT], real)
+                n = s_mem.sizes[4]
+                size = (n + CHUNKS - 1) // CHUNKS
+                error = ti.cast(0.0, ti.f64)
+                count = 0
+                for i in range(c * size, ti.min(c * size + size, n)):
+                    if s_mem.Si[q.kind, i] == FLUID:
+                        if x.pairs.count[i] >= s_mem.params[p["dfsph_min_neighbours"]]:
+                            rho0 = s_mem.mat[s_mem.Si[q.material, i], rho0_col]
+                            error += ti.cast(ti.max(s_mem.Ss[q.source, i], 0.0) * dt / rho0, ti.f64)
+                        count += 1
+                x.part[c, 0] = error
+                x.part[c, 1] = ti.cast(count, ti.f64)
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                total = ti.cast(0.0, ti.f64)
+                fluid = ti.cast(0.0, ti.f64)
+                for c in range(CHUNKS):
+                    total += x.part[c, 0]
+                    fluid += x.part[c, 1]
+                x.result[1] = total / ti.max(fluid, 1.0)
 
         return body
 
@@ -459,9 +493,13 @@ class Bodies:
         @ti.func
         def body(s_mem: ti.template(), t_target):
             dt = ti.cast(s_mem.status[st.DT], real)
+            skipped = x.result[1] <= s_mem.params[p["dfsph_divergence_tolerance"]]  # no divergence solve
             for i in range(s_mem.sizes[4]):
                 if s_mem.Si[q.kind, i] == FLUID:
-                    s_mem.Sv[q.velocity, i] += dt * acceleration(s_mem, i, q.kappa_v)
+                    if skipped:
+                        s_mem.Ss[q.kappa_v, i] = 0.0
+                    else:
+                        s_mem.Sv[q.velocity, i] += dt * acceleration(s_mem, i, q.kappa_v)
             if ti.static(wall_velocity):
                 # no-slip velocity of the walls (Adami et al. 2012 eq. 22-23), from the sums
                 # the fluid scattered in step 1: v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf
@@ -660,7 +698,9 @@ class Stepper:
         s.round_trips += 1
         self.density(t_target)
         unconverged = False
-        if dt > 0.0:
+        initial = self.result[1]  # the divergence error before any iteration
+        s.round_trips += 1
+        if dt > 0.0 and initial > c.dfsph_divergence_tolerance:
             k, err = self._solve(self.divergence_iteration, t_target, c.dfsph_divergence_tolerance, 1,
                                  c.dfsph_max_iterations, "divergence")
             unconverged = err > c.dfsph_divergence_tolerance
