@@ -23,11 +23,12 @@ else:  # pragma: no cover - Python 3.10 (the tomli dependency)
     import tomli as tomllib
 
 from .mesh import MeshError, load_surface
+from .probes.spec import KINDS, Probe  # noqa: F401  (Probe: what [[probes]] become)
 
 SOLVERS = ("wcsph",)  # the solvers a scene file can ask for
 COMING = {"dfsph": "DFSPH (divergence-free SPH) is not available yet; use solver = \"wcsph\""}
 WALL_MODELS = ("dummy", "lj")
-PROBE_KINDS = ("pressure", "elevation", "force")
+PROBE_KINDS = KINDS  # pressure, elevation, force
 KERNELS = ("spline", "gaussian", "wendland")
 INTEGRATORS = ("pc", "euler", "eulermid", "eulermom")
 UP = 1  # the vertical axis: y, in 2D and 3D
@@ -45,20 +46,6 @@ PROBE_KEYS = {"name", "kind", "at", "walls", "every"}
 
 class SceneFileError(ValueError):
     """A mistake in a scene file: ``str(err)`` names the file, the key and the value."""
-
-
-@dataclass
-class Probe:
-    """A measurement asked for by ``[[probes]]`` (sampled by the solver later):
-    ``pressure`` at the point `at`, ``elevation`` (free-surface height) along the
-    vertical line through `at` (x, or x and z), ``force`` on the wall group `walls`;
-    every `every` steps."""
-
-    name: str
-    kind: str
-    at: tuple | None = None
-    walls: str | None = None
-    every: int = 1
 
 
 @dataclass

@@ -163,6 +163,38 @@ def _wall_points(spec, block):
     return surface_points(block.surface, dx / 2.0)
 
 
+# --- a scene file as a case (sweeps) ---------------------------------------------------
+# The keys of a scene file a sweep may set or vary, as case parameters: name -> file key
+SWEEP_KEYS = {"dx": "dx", "t_end": "t_end", "frames": "frames", "integrator": "integrator", "kernel": "kernel",
+              "h_factor": "h_factor", "alpha": "physics.alpha", "delta": "physics.delta", "xsph": "physics.xsph"}
+
+
+def scene_factory(path):
+    """A case-like function for the scene file `path` (or the name of a shipped one):
+    ``factory(dx=..., alpha=...) -> Scene``, its parameters the keys of
+    :data:`SWEEP_KEYS` with the file's values as defaults and their ranges declared
+    (``factory.ranges``), as the built-in cases have them: what ``python -m taisph
+    sweep SCENE.toml --vary dx=...`` runs. Raises SceneFileError for a bad file."""
+    from .parameters import at_least, checked, integer, known_integrator, known_kernel, positive, smoothing_factor
+
+    path = find_scene_file(str(path)).resolve()
+    spec = read(path)
+
+    def scene(dx, t_end, frames, integrator, kernel, h_factor, alpha, delta, xsph):
+        values = dict(dx=dx, t_end=t_end, frames=frames, integrator=integrator, kernel=kernel, h_factor=h_factor,
+                      alpha=alpha, delta=delta, xsph=xsph)
+        return load(path, {SWEEP_KEYS[k]: v for k, v in values.items()})[0]
+
+    scene.__defaults__ = (spec.dx, spec.t_end, spec.frames, spec.integrator, spec.kernel, spec.h_factor,
+                          spec.alpha, spec.delta, spec.xsph)
+    scene.__name__ = scene.__qualname__ = spec.name
+    scene.__doc__ = f"{spec.description or spec.name} (scene file {path})"
+    scene.path = path
+    return checked(dx=positive, t_end=positive, frames=integer(at_least=1), integrator=known_integrator,
+                   kernel=known_kernel, h_factor=smoothing_factor, alpha=at_least(0), delta=at_least(0),
+                   xsph=at_least(0))(scene)
+
+
 # --- command line ----------------------------------------------------------------------
 def cases_folder() -> Path:
     import taisph
@@ -220,7 +252,7 @@ def main(argv) -> int:
 
 
 def run_file(path: Path, args) -> int:
-    from .cli.main import simulate
+    from .cli.main import output_folder, simulate
 
     overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt")
                  if getattr(args, k) is not None}
@@ -231,7 +263,19 @@ def run_file(path: Path, args) -> int:
         overrides[key.strip()] = _set_value(text.strip())
     scene, settings = load(path, overrides)
     notes = [f"wall group {name}: {group.stop - group.start} particles" for name, group in settings.wall_groups.items()]
-    if settings.probes:
-        notes.append("probes (checked; sampling them is not implemented yet): "
-                     + ", ".join(f"{p.name} ({p.kind})" for p in settings.probes))
-    return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes)
+    writers = []
+    out = output_folder(scene, args)
+    if settings.probes and out is not None:
+        from .probes import Probes
+
+        writers.append(Probes(settings.probes, walls=settings.wall_groups, path=Path(out) / "probes.csv"))
+        notes.append(f"probes to {Path(out) / 'probes.csv'}: "
+                     + ", ".join(f"{p.name} ({p.kind}{f', every {p.every} steps' if p.every > 1 else ''})"
+                                 for p in settings.probes))
+    elif settings.probes:
+        notes.append("probes: not sampled (--no-output)")
+    try:
+        return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes, writers=writers)
+    finally:
+        for writer in writers:
+            writer.close()

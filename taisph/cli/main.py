@@ -157,6 +157,11 @@ def run_case(name: str, argv) -> int:
     return simulate(scene, args)
 
 
+def output_folder(scene, args) -> Path | None:
+    """Where a run writes (``--out``, default ``out/NAME``); None with ``--no-output``."""
+    return None if args.no_output else (args.out or Path("out") / scene.name)
+
+
 def simulate(scene, args, t_end=None, frames=None, notes=(), writers=()) -> int:
     """Simulate `scene` as the case options `args` say (output folder, guards, machine,
     progress), print its description (and `notes`), the set-up time and the summary."""
@@ -164,7 +169,7 @@ def simulate(scene, args, t_end=None, frames=None, notes=(), writers=()) -> int:
 
     if args.neighbour_skin is not None:
         scene.neighbour_skin = args.neighbour_skin
-    out = None if args.no_output else (args.out or Path("out") / scene.name)
+    out = output_folder(scene, args)
     print(scene.describe())
     for line in notes:
         print(f"  {line}")

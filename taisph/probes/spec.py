@@ -1,0 +1,69 @@
+"""What a probe is: :class:`Probe` (also what a scene file's ``[[probes]]`` become) and
+the constructors :func:`pressure`, :func:`elevation`, :func:`force`. Plain Python."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+KINDS = ("pressure", "elevation", "force")
+UP = 1  # the vertical axis: y, in 2D and 3D
+
+
+@dataclass
+class Probe:
+    """A measurement: ``pressure`` at the point `at` (dim numbers), ``elevation``
+    (free-surface height) along the vertical line through `at` (x in 2D, (x, z) in
+    3D), ``force`` on the wall group `walls` (its name in a scene file, or in Python
+    a name the :class:`taisph.probes.Probes` writer is given ids for, or the particle
+    ids themselves: a slice, range, boolean mask or integer array); taken every
+    `every` steps."""
+
+    name: str
+    kind: str
+    at: tuple | None = None
+    walls: object = None
+    every: int = 1
+
+    def columns(self, dim: int) -> list:
+        """Its columns in probes.csv: the name, or ``name_x, name_y(, name_z)`` for a force."""
+        return [f"{self.name}_{a}" for a in "xyz"[:dim]] if self.kind == "force" else [self.name]
+
+    def check(self, dim: int):
+        """ValueError naming the probe if it is malformed for a `dim`-D scene."""
+        if not (isinstance(self.name, str) and self.name) or any(c in self.name for c in ',"\n'):
+            raise ValueError(f"probe name {self.name!r}: expected a non-empty name without commas or quotes")
+        if self.kind not in KINDS:
+            raise ValueError(f"probe {self.name!r}: kind {self.kind!r}; expected one of {', '.join(KINDS)}")
+        if not (isinstance(self.every, int) and not isinstance(self.every, bool) and self.every >= 1):
+            raise ValueError(f"probe {self.name!r}: every = {self.every!r}; expected an integer >= 1 (steps)")
+        if self.kind == "force":
+            if self.walls is None:
+                raise ValueError(f"probe {self.name!r}: a force probe needs walls (a wall group)")
+            return
+        n = dim if self.kind == "pressure" else dim - 1
+        at = self.at
+        if not (isinstance(at, (tuple, list)) and len(at) == n and all(_finite(v) for v in at)):
+            what = "a point" if self.kind == "pressure" else "the horizontal position of its vertical line"
+            raise ValueError(f"probe {self.name!r}: at = {at!r}; a {self.kind} probe in {dim}D takes {what}, "
+                             f"{n} number(s)")
+
+
+def _finite(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def pressure(name: str, at, every: int = 1) -> Probe:
+    """Pressure at the point `at` (Shepard interpolation of the fluid's pressure)."""
+    return Probe(name, "pressure", at=tuple(float(v) for v in at), every=every)
+
+
+def elevation(name: str, at, every: int = 1) -> Probe:
+    """Free-surface height along the vertical line through `at` (x, or (x, z) in 3D)."""
+    at = (at,) if isinstance(at, (int, float)) else at
+    return Probe(name, "elevation", at=tuple(float(v) for v in at), every=every)
+
+
+def force(name: str, walls, every: int = 1) -> Probe:
+    """Pressure force of the fluid on the wall particles `walls` (ids or a group name)."""
+    return Probe(name, "force", walls=walls, every=every)
