@@ -41,7 +41,7 @@ MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic"}
 WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "open_top"}
-PROBE_KEYS = {"name", "kind", "at", "walls", "every"}
+PROBE_KEYS = {"name", "kind", "at", "to", "walls", "every"}
 
 
 class SceneFileError(ValueError):
@@ -367,9 +367,10 @@ class _Checker:
             kind = self.choice(f"{key}.kind", p.get("kind", _MISSING), PROBE_KINDS)
             probe = Probe(name, kind, every=self.number(f"{key}.every", p.get("every", 1), integer=True, minimum=1))
             needs = {"pressure": "at", "elevation": "at", "force": "walls"}[kind]
-            for extra in {"at", "walls"} - {needs}:
+            for extra in sorted({"at", "to", "walls"} - {needs} - ({"to"} if kind == "pressure" else set())):
                 if extra in p:
-                    self.fail(f"{key}.{extra}", p[extra], f"a {kind} probe takes {needs}, not {extra}")
+                    self.fail(f"{key}.{extra}", p[extra], f"a {kind} probe takes {needs}"
+                              + (" (and to)" if kind == "pressure" else "") + f", not {extra}")
             if kind == "force":
                 probe.walls = self.text(f"{key}.walls", p.get("walls", _MISSING))
                 if probe.walls not in groups:
@@ -377,12 +378,13 @@ class _Checker:
                               + (", ".join(groups) or "none"))
             else:
                 axes = list(range(spec.dim)) if kind == "pressure" else [a for a in range(spec.dim) if a != UP]
-                at = self.vector(f"{key}.at", p.get("at", _MISSING), len(axes))
-                for a, v in zip(axes, at):
-                    if not lo[a] <= v <= hi[a]:
-                        self.fail(f"{key}.at", p["at"], f"{'xyz'[a]} = {v:g} is outside the domain "
-                                  f"({lo[a]:g} .. {hi[a]:g})")
-                probe.at = at
+                for point in ("at", "to") if "to" in p else ("at",):
+                    value = self.vector(f"{key}.{point}", p.get(point, _MISSING), len(axes))
+                    for a, v in zip(axes, value):
+                        if not lo[a] <= v <= hi[a]:
+                            self.fail(f"{key}.{point}", p[point], f"{'xyz'[a]} = {v:g} is outside the domain "
+                                      f"({lo[a]:g} .. {hi[a]:g})")
+                    setattr(probe, point, value)
             out.append(probe)
         return out
 

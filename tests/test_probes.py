@@ -140,7 +140,8 @@ def test_probes_are_their_definitions(dim):
     """On the initial state (the bootstrap evaluation: S is C, so the host's copy is
     what the device reads), each probe equals its definition evaluated with numpy
     over all particles, to 1e-9: the Shepard pressure at points inside, near the
-    surface and in the air, the fluid fraction's 1/2-crossing along a vertical line,
+    surface and in the air, its mean over a sensor's face that is partly out of the
+    water (dry points count as 0), the fluid fraction's 1/2-crossing along a vertical line,
     and the pressure force on a wall group (every fluid-wall pair's
     m_f m_w (p_f/rho_f^2 + p_w/rho_w^2) grad W), in a dam break with dummy walls."""
     scene = (taisph.cases.dam_break(dx=0.05, walls="dummy") if dim == 2
@@ -158,8 +159,10 @@ def test_probes_are_their_definitions(dim):
     points = [centre, centre + (top - centre[1]) * up, centre + 0.5 * up]  # inside, at the surface, in the air
     group = wall[x[wall, 1] < 0.0]
     line = tuple(np.delete(centre, 1))
+    seg_a, seg_b = centre + (top - centre[1] - 0.3) * up, centre + (top - centre[1] + 0.2) * up  # half dry
     probes = Probes([pressure(f"p{k}", at=tuple(a)) for k, a in enumerate(points)]
-                    + [elevation("eta", at=line), force("floor", walls=group)])
+                    + [pressure("sensor", at=tuple(seg_a), to=tuple(seg_b)), elevation("eta", at=line),
+                       force("floor", walls=group)])
     probes.sample(sim)
     values = probes.values
 
@@ -172,6 +175,11 @@ def test_probes_are_their_definitions(dim):
         phi, pi = fraction(a)
         expected = pi / phi if phi >= 0.2 else np.nan
         assert values[f"p{k}"][0] == pytest.approx(expected, rel=1e-9, nan_ok=True)
+    parts = int(np.ceil(0.5 / (scene.dx / 2) - 1e-9))
+    face = [fraction(seg_a + (k + 0.5) / parts * (seg_b - seg_a)) for k in range(parts)]
+    expected = np.mean([pi / phi if phi >= 0.2 else 0.0 for phi, pi in face])
+    assert values["sensor"][0] == pytest.approx(expected, rel=1e-9)
+    assert 0 < sum(phi < 0.2 for phi, _ in face) < parts  # partly dry
     heights = probes._line
     phi = np.array([fraction(np.insert(np.asarray(line), 1, y))[0] for y in heights])
     assert values["eta"][0] == pytest.approx(surface_height(heights, phi), rel=1e-9)

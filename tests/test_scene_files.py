@@ -135,6 +135,9 @@ MISTAKES = [  # (old text, new text, key, value shown, problem)
     ('kind = "elevation"', 'kind = "velocity"', "probes[1].kind", "'velocity'", "expected one of 'pressure'"),
     ('every = 5', 'every = 0', "probes[1].every", "0", "must be at least 1"),
     ('every = 5', 'every = 5\nwalls = "tank"', "probes[1].walls", "'tank'", "a elevation probe takes at, not walls"),
+    ('at = [0.5, 0.05]', 'at = [0.5, 0.05]\nto = [0.5, 9.0]', "probes[0].to", "[0.5, 9.0]",
+     "y = 9 is outside the domain"),
+    ('every = 5', 'every = 5\nto = [0.3]', "probes[1].to", "[0.3]", "a elevation probe takes at, not to"),
     ('walls = "tank"\n', 'walls = "roof"\n', "probes[2].walls", "'roof'",
      "no wall group of that name; wall groups: tank, rock"),
 ]

@@ -12,7 +12,8 @@ UP = 1  # the vertical axis: y, in 2D and 3D
 
 @dataclass
 class Probe:
-    """A measurement: ``pressure`` at the point `at` (dim numbers), ``elevation``
+    """A measurement: ``pressure`` at the point `at` (dim numbers), or averaged over
+    the segment from `at` to `to` (a sensor's face), ``elevation``
     (free-surface height) along the vertical line through `at` (x in 2D, (x, z) in
     3D), ``force`` on the wall group `walls` (its name in a scene file, or in Python
     a name the :class:`taisph.probes.Probes` writer is given ids for, or the particle
@@ -24,6 +25,7 @@ class Probe:
     at: tuple | None = None
     walls: object = None
     every: int = 1
+    to: tuple | None = None
 
     def columns(self, dim: int) -> list:
         """Its columns in probes.csv: the name, or ``name_x, name_y(, name_z)`` for a force."""
@@ -42,20 +44,27 @@ class Probe:
                 raise ValueError(f"probe {self.name!r}: a force probe needs walls (a wall group)")
             return
         n = dim if self.kind == "pressure" else dim - 1
-        at = self.at
-        if not (isinstance(at, (tuple, list)) and len(at) == n and all(_finite(v) for v in at)):
-            what = "a point" if self.kind == "pressure" else "the horizontal position of its vertical line"
-            raise ValueError(f"probe {self.name!r}: at = {at!r}; a {self.kind} probe in {dim}D takes {what}, "
-                             f"{n} number(s)")
+        for key in ("at", "to"):
+            value = getattr(self, key)
+            if key == "to" and (value is None or self.kind != "pressure"):
+                if value is not None:
+                    raise ValueError(f"probe {self.name!r}: to = {value!r}; only a pressure probe takes to")
+                continue
+            if not (isinstance(value, (tuple, list)) and len(value) == n and all(_finite(v) for v in value)):
+                what = "a point" if self.kind == "pressure" else "the horizontal position of its vertical line"
+                raise ValueError(f"probe {self.name!r}: {key} = {value!r}; a {self.kind} probe in {dim}D takes "
+                                 f"{what}, {n} number(s)")
 
 
 def _finite(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
-def pressure(name: str, at, every: int = 1) -> Probe:
-    """Pressure at the point `at` (Shepard interpolation of the fluid's pressure)."""
-    return Probe(name, "pressure", at=tuple(float(v) for v in at), every=every)
+def pressure(name: str, at, every: int = 1, to=None) -> Probe:
+    """Pressure at the point `at` (Shepard interpolation of the fluid's pressure), or
+    its mean over the segment from `at` to `to` (a sensor's face; dry parts count as 0)."""
+    return Probe(name, "pressure", at=tuple(float(v) for v in at), every=every,
+                 to=None if to is None else tuple(float(v) for v in to))
 
 
 def elevation(name: str, at, every: int = 1) -> Probe:

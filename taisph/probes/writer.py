@@ -91,8 +91,12 @@ class Probes:
         self._line = np.arange(lo[UP], hi[UP] + 0.5 * spacing, spacing)  # heights of elevation samples
         for p in self.probes:
             start = len(points)
-            if p.kind == "pressure":
+            if p.kind == "pressure" and p.to is None:
                 points.append(np.asarray(p.at, float))
+            elif p.kind == "pressure":  # a sensor's face: points at most dx/2 apart, at the parts' middles
+                a, b = np.asarray(p.at, float), np.asarray(p.to, float)
+                parts = max(1, math.ceil(np.linalg.norm(b - a) / spacing - 1e-9))
+                points += [a + (k + 0.5) / parts * (b - a) for k in range(parts)]
             elif p.kind == "elevation":
                 for y in self._line:
                     x = list(p.at)
@@ -155,8 +159,10 @@ class Probes:
             if p.name not in due:
                 row += [math.nan] * width
             elif p.kind == "pressure":
-                k = self._slices[p.name].start
-                row.append(pi[k] / phi[k] if phi[k] >= self.min_fluid_fraction else math.nan)
+                part = self._slices[p.name]
+                wet = phi[part] >= self.min_fluid_fraction
+                values = np.where(wet, pi[part] / np.where(wet, phi[part], 1.0), 0.0)  # dry: the air's 0
+                row.append(float(values.mean()) if wet.any() else math.nan)
             elif p.kind == "elevation":
                 row.append(surface_height(self._line, phi[self._slices[p.name]]))
             else:
