@@ -35,7 +35,7 @@ UP = 1  # the vertical axis: y, in 2D and 3D
 _MISSING = object()  # a key the file does not have
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor",
-            "dt", "domain", "physics", "materials", "fluid", "walls", "probes"}
+            "dt", "courant", "domain", "physics", "materials", "fluid", "walls", "probes"}
 PHYSICS = {"gravity": None, "alpha": 0.1, "delta": 0.1, "xsph": 0.0}  # None: (0, -9.81(, 0))
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
@@ -86,6 +86,7 @@ class SceneSpec:
     integrator: str
     h_factor: float
     dt: float | None
+    courant: float | None  # the adaptive step's Courant number (None: the default, 0.25)
     gravity: tuple
     alpha: float
     delta: float
@@ -102,12 +103,14 @@ class SceneSpec:
 @dataclass
 class RunSettings:
     """What a scene file asks of the run besides the scene: end time, frames, the
-    solver, the probes, and the particles of each wall group (``name -> slice`` of
-    the scene's particle arrays, for force probes)."""
+    solver, the Courant number (None: the default), the probes, and the particles of
+    each wall group (``name -> slice`` of the scene's particle arrays, for force
+    probes)."""
 
     t_end: float
     frames: int
     solver: str
+    courant: float | None = None
     probes: list = field(default_factory=list)
     wall_groups: dict = field(default_factory=dict)
     source: Path | None = None
@@ -204,6 +207,12 @@ class _Checker:
             self.fail(key, value, "lo must be below hi along every axis")
         return lo, hi
 
+    def courant(self, value):
+        value = self.number("courant", value, positive=True)
+        if value > 1:
+            self.fail("courant", value, "must be at most 1 (dt = courant h / max(c + |v|))")
+        return value
+
     def text(self, key, value):
         if value is _MISSING:
             self.fail(key, value, "required")
@@ -242,6 +251,7 @@ class _Checker:
             integrator=self.choice("integrator", data.get("integrator", "pc"), INTEGRATORS),
             h_factor=self.number("h_factor", data.get("h_factor", 1.3), positive=True),
             dt=self.number("dt", data["dt"], positive=True) if "dt" in data else None,
+            courant=self.courant(data["courant"]) if "courant" in data else None,
             gravity=self.vector("physics.gravity", gravity, dim),
             alpha=self.number("physics.alpha", physics.get("alpha", PHYSICS["alpha"]), minimum=0),
             delta=self.number("physics.delta", physics.get("delta", PHYSICS["delta"]), minimum=0),

@@ -75,7 +75,7 @@ def build(spec: SceneSpec):
     groups = {}
     for block in spec.walls:
         groups[block.name] = scene.add_walls(_wall_points(spec, block))
-    settings = RunSettings(spec.t_end, spec.frames, spec.solver, list(spec.probes), groups, spec.path)
+    settings = RunSettings(spec.t_end, spec.frames, spec.solver, spec.courant, list(spec.probes), groups, spec.path)
     return scene, settings
 
 
@@ -190,6 +190,7 @@ def scene_factory(path):
     scene.__name__ = scene.__qualname__ = spec.name
     scene.__doc__ = f"{spec.description or spec.name} (scene file {path})"
     scene.path = path
+    scene.courant = spec.courant  # a run setting, not the scene's: the sweep passes it on
     return checked(dx=positive, t_end=positive, frames=integer(at_least=1), integrator=known_integrator,
                    kernel=known_kernel, h_factor=smoothing_factor, alpha=at_least(0), delta=at_least(0),
                    xsph=at_least(0))(scene)
@@ -254,7 +255,7 @@ def main(argv) -> int:
 def run_file(path: Path, args) -> int:
     from .cli.main import output_folder, simulate
 
-    overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt")
+    overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant")
                  if getattr(args, k) is not None}
     for item in args.set:
         if "=" not in item:
@@ -275,7 +276,8 @@ def run_file(path: Path, args) -> int:
     elif settings.probes:
         notes.append("probes: not sampled (--no-output)")
     try:
-        return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes, writers=writers)
+        return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes, writers=writers,
+                        controls={"courant": settings.courant} if settings.courant else None)
     finally:
         for writer in writers:
             writer.close()

@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 from . import cases
-from .parser import FRAMES, NON_NEGATIVE, POSITIVE, SKIN, THREADS, Parser
+from .parser import COURANT, FRAMES, NON_NEGATIVE, POSITIVE, SKIN, THREADS, Parser
 
 USAGE = """\
 python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
@@ -50,6 +50,8 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g.add_argument("--t-end", type=POSITIVE, help="simulated end time (s, > 0)")
     g.add_argument("--dt", type=POSITIVE, help="fixed time step (s, > 0); default: adaptive (CFL, force and viscous limits)")
     g.add_argument("--frames", type=FRAMES, help="frames to write after the initial one (>= 1; default: the case's)")
+    g.add_argument("--courant", type=COURANT, metavar="C",
+                   help="Courant number of the adaptive step dt = C h / max(c + |v|) (0 < C <= 1; default 0.25)")
     g = parser.add_argument_group("numerics")
     g.add_argument("--integrator", choices=["euler", "eulermid", "eulermom", "pc"], help="time integrator")
     g.add_argument("--kernel", choices=["spline", "gaussian", "wendland"], help="smoothing kernel")
@@ -162,9 +164,11 @@ def output_folder(scene, args) -> Path | None:
     return None if args.no_output else (args.out or Path("out") / scene.name)
 
 
-def simulate(scene, args, t_end=None, frames=None, notes=(), writers=()) -> int:
+def simulate(scene, args, t_end=None, frames=None, notes=(), writers=(), controls=None) -> int:
     """Simulate `scene` as the case options `args` say (output folder, guards, machine,
-    progress), print its description (and `notes`), the set-up time and the summary."""
+    progress), print its description (and `notes`), the set-up time and the summary.
+    `controls`: further simulation controls (a scene file's ``courant``); ``--courant``
+    overrides."""
     import taisph
 
     if args.neighbour_skin is not None:
@@ -174,10 +178,14 @@ def simulate(scene, args, t_end=None, frames=None, notes=(), writers=()) -> int:
     for line in notes:
         print(f"  {line}")
     start = time.perf_counter()
+    controls = dict(controls or {})
+    if args.courant is not None:
+        controls["courant"] = args.courant
     sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads,
                             max_density_error=args.max_density_error, remove_escaped=args.remove_escaped or None,
-                            deterministic=args.deterministic)
-    step = f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt else f"adaptive dt (first {sim.dt:.3g} s)"
+                            deterministic=args.deterministic, **controls)
+    step = (f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt
+            else f"adaptive dt (Courant {sim.controls.courant:g}; first {sim.dt:.3g} s)")
     print(f"  {sim.runtime.arch}, {sim.runtime.precision}, {sim.runtime.threads} thread(s); {step}; "
           f"ready in {time.perf_counter() - start:.2f} s (kernel compilation included)")
     summary = sim.run(args.t_end if t_end is None else t_end, frames=args.frames if frames is None else frames,

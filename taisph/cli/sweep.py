@@ -17,7 +17,7 @@ of the cores), or an existing cluster with --scheduler tcp://host:port (started 
 
 Names: any case parameter (CASE --help; a scene file's: dx, t_end, frames, integrator, kernel,
 h_factor, alpha, delta, xsph, its values the defaults), the run settings precision, threads, dt (a value
-or none), neighbour_skin, max_density_error, deterministic, remove_escaped and, for
+or none), courant, neighbour_skin, max_density_error, deterministic, remove_escaped and, for
 validation runs, the validation's keywords (dt_factor, T_end, samples, ...).
 
 A case with a reference (dam_break, hydrostatic_tank, poiseuille, couette, taylor_green,
@@ -51,6 +51,7 @@ def build_parser() -> Parser:
     g.add_argument("--integrator", help="time integrator")
     g.add_argument("--kernel", help="smoothing kernel")
     g.add_argument("--dt", help="fixed time step (s); default: adaptive")
+    g.add_argument("--courant", help="Courant number of the adaptive step (default 0.25, or the scene file's)")
     g.add_argument("--precision", help="f32 or f64 (default f64)")
     g.add_argument("--neighbour-skin", help="neighbour list skin (default 0: no lists)")
     g.add_argument("--max-density-error", help="guard: stop when |rho/rho0 - 1| exceeds this (default 0.2)")
@@ -79,7 +80,7 @@ def fixed_values(args) -> dict:
     from . import cases
 
     fixed = {}
-    for option in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "precision", "neighbour_skin",
+    for option in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant", "precision", "neighbour_skin",
                    "max_density_error", "threads"):
         if getattr(args, option) is not None:
             fixed[option] = getattr(args, option)

@@ -14,7 +14,8 @@ import os
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
-from ..parameters import ParameterError, Number, Range, at_least, between, flag, integer, one_of, optional, positive
+from ..parameters import (ParameterError, Number, Range, at_least, between, courant_number, flag, integer, one_of,
+                          optional, positive)
 
 
 class Numbers(Range):
@@ -44,6 +45,7 @@ SETTINGS = {
     "precision": (one_of("f32", "f64"), "float precision of the run"),
     "threads": (integer(at_least=1), "CPU threads of the run"),
     "dt": (optional(positive), "fixed time step (s); none: adaptive"),
+    "courant": (courant_number, "Courant number of the adaptive step (default 0.25, or a scene file's)"),
     "neighbour_skin": (between(0, 2), "neighbour list skin (fraction of the support radius)"),
     "max_density_error": (at_least(0), "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
     "deterministic": (flag, "serial cell sort: bit-for-bit reproducible runs"),
@@ -283,6 +285,8 @@ def plan_tasks(case: str, vary: dict, fixed: dict, validate: bool | None = None,
         everything = {**parsed_fixed, **combination}
         settings = {k: v for k, v in everything.items() if allowed[k].kind == "setting"}
         settings.setdefault("precision", "f64")
+        if getattr(factory, "courant", None) is not None:  # a scene file's own Courant number
+            settings.setdefault("courant", factory.courant)
         params = {k: v for k, v in everything.items() if allowed[k].kind != "setting"}
         name = run_name(combination)
         folder = os.path.join(out, name) if (out is not None and frames_per_run) else None
