@@ -294,3 +294,54 @@ def test_surface_height_interpolates_the_highest_crossing():
     assert surface_height(heights, phi) == pytest.approx(0.35)
     assert math.isnan(surface_height(heights, np.zeros(8)))
     assert surface_height(heights, np.ones(8)) == pytest.approx(0.7)
+
+
+@pytest.mark.parametrize("skin", [0.0, 0.5])
+def test_probes_read_the_sorted_state_after_a_step(skin):
+    """After 12 steps of a dam break (dummy walls), with or without neighbour lists
+    (skin 0.5: the lists are reused between rebuilds, the cells are those of the last
+    rebuild), the pressure probe and the force probe equal their definitions evaluated
+    with numpy on the cell-sorted state S the step computed its rates from, to 1e-9."""
+    scene = taisph.cases.dam_break(dx=0.05, walls="dummy")
+    scene.neighbour_skin = skin
+    sim = taisph.Simulation(scene)
+    sim.step(12)
+    if skin:
+        assert sim.list_rebuilds < sim.steps  # lists were reused
+    wall = np.flatnonzero(scene.kind == taisph.WALL)
+    point = (0.4, 0.3)
+    probes = Probes([pressure("p", at=point), force("F", walls=wall)])
+    probes.sample(sim)
+    q = sim.solver.layout.q
+    vec, sca, ints = (a.to_numpy() for a in sim.state.S)
+    x, p, m, rho, kind = vec[q.position], sca[q.pressure], sca[q.mass], sca[q.density], ints[q.kind]
+    h = scene.smoothing_length
+    sigma = 10 / (7 * np.pi) / h**2
+    fluid = kind == taisph.FLUID
+    r = np.linalg.norm(np.asarray(point) - x[fluid], axis=1)
+    q_ = r / h
+    w = sigma * np.where(q_ < 1, 1 - 1.5 * q_**2 + 0.75 * q_**3, np.where(q_ < 2, 0.25 * (2 - q_) ** 3, 0.0))
+    vw = m[fluid] / rho[fluid] * w
+    assert probes.values["p"][0] == pytest.approx((p[fluid] * vw).sum() / vw.sum(), rel=1e-9)
+    walls = kind == taisph.WALL
+    rfw = x[fluid][:, None, :] - x[walls][None, :, :]
+    q_ = np.linalg.norm(rfw, axis=2) / h
+    g = sigma / h**2 * np.where(q_ < 1, -3 + 2.25 * q_, np.where(q_ < 2, -0.75 * (2 - q_) ** 2 / np.maximum(q_, 1e-12), 0))
+    pij = (p[fluid] / rho[fluid] ** 2)[:, None] + (p[walls] / rho[walls] ** 2)[None, :]
+    expected = ((m[fluid][:, None] * m[walls][None, :] * pij * g)[:, :, None] * rfw).sum(axis=(0, 1))
+    assert probes.values["F"][0] == pytest.approx(expected, rel=1e-9)
+    sim.close()
+
+
+@pytest.mark.parametrize("integrator, times", [("pc", [0.0, 5e-4, 1e-3]), ("euler", [0.0, 4e-4, 9e-4])])
+def test_a_sample_is_labelled_with_the_time_of_the_state_it_reads(integrator, times):
+    """Every 5 steps of dt = 1e-4 s: the predictor-corrector's S holds the positions at
+    the step's end (t = 5e-4, 1e-3); an Euler step computes its rates from the state at
+    its start, so its samples are that state's times (4e-4, 9e-4)."""
+    scene = taisph.cases.hydrostatic_tank(dx=0.05, integrator=integrator)
+    scene.dt = 1e-4
+    sim = taisph.Simulation(scene)
+    probes = Probes([pressure("p", at=(0.5, 0.1), every=5)])
+    sim.run(1e-3, frames=1, writers=[probes])
+    sim.close()
+    assert probes.times == pytest.approx(times, abs=1e-12)
