@@ -253,7 +253,7 @@ def main(argv) -> int:
 
 
 def run_file(path: Path, args) -> int:
-    from .cli.main import output_folder, simulate
+    from .cli.main import command_line_probes, output_folder, probe_notes, probe_writers, simulate
 
     overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant")
                  if getattr(args, k) is not None}
@@ -264,17 +264,14 @@ def run_file(path: Path, args) -> int:
         overrides[key.strip()] = _set_value(text.strip())
     scene, settings = load(path, overrides)
     notes = [f"wall group {name}: {group.stop - group.start} particles" for name, group in settings.wall_groups.items()]
-    writers = []
+    probes = list(settings.probes) + command_line_probes(args, scene.dim, settings.wall_groups)
+    names = [p.name for p in probes]
+    for name in names:
+        if names.count(name) > 1:
+            raise ValueError(f"--probe: two probes named {name!r} (the scene file's and --probe's names must differ)")
     out = output_folder(scene, args)
-    if settings.probes and out is not None:
-        from .probes import Probes
-
-        writers.append(Probes(settings.probes, walls=settings.wall_groups, path=Path(out) / "probes.csv"))
-        notes.append(f"probes to {Path(out) / 'probes.csv'}: "
-                     + ", ".join(f"{p.name} ({p.kind}{f', every {p.every} steps' if p.every > 1 else ''})"
-                                 for p in settings.probes))
-    elif settings.probes:
-        notes.append("probes: not sampled (--no-output)")
+    writers = probe_writers(probes, settings.wall_groups, out)
+    notes += probe_notes(probes, out)
     try:
         return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes, writers=writers,
                         controls={"courant": settings.courant} if settings.courant else None)

@@ -345,3 +345,29 @@ def test_a_sample_is_labelled_with_the_time_of_the_state_it_reads(integrator, ti
     sim.run(1e-3, frames=1, writers=[probes])
     sim.close()
     assert probes.times == pytest.approx(times, abs=1e-12)
+
+
+def test_command_line_probes_for_cases_and_scene_files(tmp_path, capsys):
+    """--probe KIND:NAME:WHERE[:EVERY] samples probes of a case (force on "walls": all
+    its wall particles) and adds to a scene file's; a malformed one is refused (exit 2)
+    with the option's text, before anything is written."""
+    out = tmp_path / "tank"
+    assert cli(["hydrostatic_tank", "--dx", "0.1", "--t-end", "0.005", "--dt", "5e-4", "--frames", "1", "--out", str(out),
+                "--no-progress", "--probe", "pressure:p:0.5,0.1", "--probe", "force:F:walls",
+                "--probe", "elevation:g:0.5:5"]) == 0
+    assert "probes to" in capsys.readouterr().out
+    data = read_csv(out / "probes.csv")
+    assert list(data) == ["time", "p", "F_x", "F_y", "g"] and len(data["time"]) == 11
+    assert np.count_nonzero(~np.isnan(data["g"])) == 3  # steps 0, 5, 10
+    assert abs(data["p"][0] / (RHO0 * G * 0.4) - 1) < 0.05  # 2.9 %: at H/dx = 5 the floor truncates the sum
+    path = tmp_path / "small.toml"
+    path.write_text(SMALL.format(t_end=0.002, dt=5e-4))
+    assert cli([str(path), "--out", str(tmp_path / "s"), "--no-progress", "--probe", "force:G:tank"]) == 0
+    assert list(read_csv(tmp_path / "s" / "probes.csv")) == ["time", "wet", "dry", "F_x", "F_y", "G_x", "G_y"]
+    for argv, message in ((["--probe", "pressure:p:0.5"], "--probe pressure:p:0.5: probe 'p': at = (0.5,)"),
+                          (["--probe", "force:F:floor"], "--probe force:F:floor: no wall group 'floor'; wall groups: walls"),
+                          (["--probe", "speed:v:1,1"], "--probe speed:v:1,1: expected KIND:NAME:WHERE[:EVERY]"),
+                          (["--probe", "elevation:g:0.5:often"], "every = 'often'; expected an integer >= 1")):
+        assert cli(["hydrostatic_tank", "--dx", "0.1", "--out", str(tmp_path / "bad"), *argv]) == 2
+        assert message in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()

@@ -10,6 +10,9 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
+from ..engine.layout import WALL
 from . import cases
 from .parser import COURANT, FRAMES, NON_NEGATIVE, POSITIVE, SKIN, THREADS, Parser
 
@@ -74,6 +77,10 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g = parser.add_argument_group("output and machine")
     g.add_argument("--out", type=Path, help="output folder (default: out/CASE)")
     g.add_argument("--no-output", action="store_true", help="write no frames (benchmarking)")
+    g.add_argument("--probe", action="append", default=[], metavar="KIND:NAME:WHERE[:EVERY]",
+                   help="sample a probe into OUT/probes.csv (repeatable): pressure:P1:3.22,0.16 (a point), "
+                        "elevation:gauge:0.6:10 (a vertical line at x = 0.6, every 10 steps), force:F:walls "
+                        "(all wall particles; a scene file's wall group names); docs/scenes.md")
     g.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"], help="Taichi backend (default cpu)")
     g.add_argument("--threads", type=THREADS, help="CPU threads (>= 1; default: all cores)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -156,7 +163,46 @@ def run_case(name: str, argv) -> int:
     scene = cases.find(name)(**kwargs)
     if args.dt is not None:
         scene.dt = args.dt
-    return simulate(scene, args)
+    walls = {"walls": np.flatnonzero(scene.kind == WALL)}
+    probes = command_line_probes(args, scene.dim, walls)
+    out = output_folder(scene, args)
+    writers = probe_writers(probes, walls, out)
+    try:
+        return simulate(scene, args, writers=writers, notes=probe_notes(probes, out))
+    finally:
+        for writer in writers:
+            writer.close()
+
+
+def command_line_probes(args, dim, walls) -> list:
+    """The ``--probe`` options as probes, checked (wall groups included) before anything is built."""
+    from ..probes import parse
+
+    probes = [parse(text, dim) for text in args.probe]
+    for p in probes:
+        if p.kind == "force" and p.walls not in walls:
+            raise ValueError(f"--probe force:{p.name}:{p.walls}: no wall group {p.walls!r}; wall groups: "
+                             + (", ".join(walls) or "none"))
+    return probes
+
+
+def probe_notes(probes, out) -> list:
+    """The line a run prints about its probes."""
+    if not probes:
+        return []
+    if out is None:
+        return ["probes: not sampled (--no-output)"]
+    return [f"probes to {Path(out) / 'probes.csv'}: "
+            + ", ".join(f"{p.name} ({p.kind}{f', every {p.every} steps' if p.every > 1 else ''})" for p in probes)]
+
+
+def probe_writers(probes, walls, out) -> list:
+    """A :class:`taisph.probes.Probes` writer into OUT/probes.csv, if there are probes and an output folder."""
+    if not probes or out is None:
+        return []
+    from ..probes import Probes
+
+    return [Probes(probes, walls=walls, path=Path(out) / "probes.csv")]
 
 
 def output_folder(scene, args) -> Path | None:

@@ -53,7 +53,7 @@ Cost: one kernel launch per sample (the sums of all due probes in one parallel
 loop) and a download of a few numbers per point; measured in docs/scenes.md.
 """
 
-from .spec import KINDS, Probe, elevation, force, pressure
+from .spec import KINDS, Probe, elevation, force, parse, pressure
 from .writer import ELEVATION_FRACTION, MIN_FLUID_FRACTION, Probes, read_csv, surface_height
 
 __all__ = ["Probe", "Probes", "pressure", "elevation", "force", "read_csv", "surface_height", "KINDS",

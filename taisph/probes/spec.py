@@ -76,3 +76,34 @@ def elevation(name: str, at, every: int = 1) -> Probe:
 def force(name: str, walls, every: int = 1) -> Probe:
     """Pressure force of the fluid on the wall particles `walls` (ids or a group name)."""
     return Probe(name, "force", walls=walls, every=every)
+
+
+def parse(text: str, dim: int) -> Probe:
+    """A probe from the command line's ``--probe KIND:NAME:WHERE[:EVERY]``:
+    ``pressure:P1:3.22,0.16`` (a point), ``elevation:gauge:0.6:10`` (the vertical line at
+    x = 0.6, every 10 steps), ``force:F:walls`` (a wall group: ``walls``, all wall
+    particles of a case, or a scene file's group name). ValueError naming the text."""
+    parts = text.split(":")
+    if len(parts) not in (3, 4) or parts[0] not in KINDS or not parts[1]:
+        raise ValueError(f"--probe {text}: expected KIND:NAME:WHERE[:EVERY], KIND one of {', '.join(KINDS)} "
+                         "(e.g. pressure:P1:3.22,0.16, elevation:gauge:0.6:10, force:F:walls)")
+    kind, name, where = parts[:3]
+    every = 1
+    if len(parts) == 4:
+        try:
+            every = int(parts[3])
+        except ValueError:
+            every = parts[3]
+    if kind == "force":
+        probe = Probe(name, kind, walls=where, every=every)
+    else:
+        try:
+            at = tuple(float(v) for v in where.split(","))
+        except ValueError:
+            raise ValueError(f"--probe {text}: {where!r} is not comma-separated numbers") from None
+        probe = Probe(name, kind, at=at, every=every)
+    try:
+        probe.check(dim)
+    except ValueError as err:
+        raise ValueError(f"--probe {text}: {err}") from None
+    return probe
