@@ -80,15 +80,17 @@ def load(folder, arch=None, threads=None):
 
 
 class CheckpointWriter:
-    """A run writer: a checkpoint to `folder` every `every` frames."""
+    """A run writer: a checkpoint to `folder` every `every` frames (kept as
+    ``every_frames``: a writer's ``every`` means "call on_steps every k steps",
+    :meth:`taisph.Simulation.run`)."""
 
     def __init__(self, folder, every: int, t_end: float, frames: int, frame_writer=None):
-        self.folder, self.every, self.t_end, self.frames = Path(folder), every, t_end, frames
+        self.folder, self.every_frames, self.t_end, self.frames = Path(folder), every, t_end, frames
         self.frame_writer = frame_writer
 
     def on_start(self, sim):
         pass
 
     def on_frame(self, sim, k: int):
-        if (k + 1) % self.every == 0:
+        if (k + 1) % self.every_frames == 0:
             save(sim, self.folder, t_end=self.t_end, frames_left=self.frames - k - 1, writer=self.frame_writer)
