@@ -102,15 +102,11 @@ def _body(solver):
     ACTIVE, PHI, PI = dim, dim + 1, dim + 2  # columns of a point's row
 
     @ti.func
-    def cells_around(s: ti.template(), x):
-        return grid.coords(s, x)
-
-    @ti.func
     def point_sums(s: ti.template(), k, support2):
         x = ti.Vector([s.aux_real[k, d] for d in ti.static(range(dim))], dt=real)
         phi = ti.cast(0.0, real)
         pi = ti.cast(0.0, real)
-        c = cells_around(s, x)
+        c = grid.coords(s, x)
         for r in range(grid.n_ranges):
             begin, end = grid.slot_range(s, c, r)
             for j in range(begin, end):
@@ -131,7 +127,7 @@ def _body(solver):
         times their masses: the force of the fluid on wall particle w."""
         xw = s.Sv[q.position, w]
         force = ti.Vector.zero(real, dim)
-        c = cells_around(s, xw)
+        c = grid.coords(s, xw)
         for r in range(grid.n_ranges):
             begin, end = grid.slot_range(s, c, r)
             for f in range(begin, end):

@@ -16,7 +16,7 @@ from .device import Sampler
 from .spec import UP, Probe
 
 ELEVATION_FRACTION = 0.5  # the free surface: where the fluid fraction phi falls through 1/2
-MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a quarter of a wall's half space)
+MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a corner has 1/4; taisph.probes)
 
 
 class Probes:
