@@ -313,7 +313,7 @@ def test_probes_read_the_sorted_state_after_a_step(skin):
     probes = Probes([pressure("p", at=point), force("F", walls=wall)])
     probes.sample(sim)
     q = sim.solver.layout.q
-    vec, sca, ints = (a.to_numpy() for a in sim.state.S)
+    vec, sca, ints = (a.to_numpy()[:, : sim.n] for a in sim.state.S)  # the particles in use
     x, p, m, rho, kind = vec[q.position], sca[q.pressure], sca[q.mass], sca[q.density], ints[q.kind]
     h = scene.smoothing_length
     sigma = 10 / (7 * np.pi) / h**2

@@ -20,8 +20,8 @@ of the thread pool), computes
   pass; F = sum_w F_w over the group (atomic adds: the last bits of F depend on the
   thread order).
 
-Inputs go in through the kernel signature's auxiliary arrays, which this module
-allocates once per :class:`Sampler` and passes in place of the State's dummies:
+Inputs go in through the auxiliary kernel's two ndarray arguments, which this module
+allocates once per :class:`Sampler`:
 
 ``aux_real[k, :]``   point k: ``x (dim), active (0/1), phi, pi`` (the last two written);
                      then one row per force group: ``F (dim)`` (written; zeroed before);
@@ -41,52 +41,22 @@ import weakref
 import numpy as np
 import taichi as ti
 
-from ..engine.assembly import Args
 from ..engine.layout import FLUID, VARIABLE_H, WALL
 
 # terms whose wall contributions make up a force probe: the pressure force of the
 # fluid on the wall (and, for Lennard-Jones walls, their repulsion, which stands in for it)
 FORCE_TERMS = ("pressure", "pressure_hu_adams", "lennard_jones_wall")
 
-_kernels = weakref.WeakKeyDictionary()  # solver -> (kernel, graph or None)
+_builders = weakref.WeakKeyDictionary()  # solver -> the kernel builder of its probes
 
 
 def probe_kernel(solver):
-    """The probes' kernel of `solver` and a Taichi graph of it (None if the backend
-    cannot build one), compiled once per solver. A graph call binds the 21 arrays in
-    C++: 44 us per call instead of 134 us for the kernel called from Python (dx =
-    0.02 m dam break, 2 cores)."""
-    compiled = _kernels.get(solver)
-    if compiled is None:
-        kernel = solver.make_kernel(_body(solver))
-        compiled = _kernels[solver] = (kernel, _graph(solver, kernel))
-    return compiled
-
-
-def _graph(solver, kernel):
-    G = ti.graph
-    try:
-        symbols = []
-        for name in Args._fields:
-            if name in ("Cv", "Sv"):
-                symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=solver.vec, ndim=2))
-            elif name == "x_ref":
-                symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=solver.vec, ndim=1))
-            else:
-                dtype, ndim = _ARG_TYPES[name]
-                symbols.append(G.Arg(G.ArgKind.NDARRAY, name, dtype=dtype or solver.real, ndim=ndim))
-        builder = G.GraphBuilder()
-        builder.dispatch(kernel, *symbols, G.Arg(G.ArgKind.SCALAR, "t_target", ti.f64))
-        return builder.compile()
-    except Exception:  # pragma: no cover - a backend without graphs: call the kernel
-        return None
-
-
-# dtype (None: the state's real type) and ndim of the other kernel arguments (taisph.engine.assembly.Args)
-_ARG_TYPES = dict(Cs=(None, 2), Ci=(ti.i32, 2), Ss=(None, 2), Si=(ti.i32, 2), cell_of=(ti.i32, 1),
-                  cell_count=(ti.i32, 1), cell_start=(ti.i32, 1), cell_fill=(ti.i32, 1), params=(None, 1),
-                  mat=(None, 2), gshape=(ti.i32, 1), status=(ti.f64, 1), flags=(ti.i32, 1), nlist=(ti.i32, 2),
-                  ncount=(ti.i32, 1), aux_int=(ti.i32, 2), aux_real=(None, 2))
+    """The builder of `solver`'s probe kernel (:meth:`Solver.make_aux_kernel`): the
+    kernel compiles once per field set and takes the two auxiliary arrays and the time."""
+    builder = _builders.get(solver)
+    if builder is None:
+        builder = _builders[solver] = solver.make_aux_kernel(_body(solver))
+    return builder
 
 
 def _body(solver):
@@ -152,7 +122,7 @@ def _body(solver):
         for g in range(s.aux_int[0, 1]):  # the force rows accumulate: zero them first
             for d in ti.static(range(dim)):
                 s.aux_real[n_points + g, d] = 0.0
-        for k in range(n_points + s.Sv.shape[1]):
+        for k in range(n_points + s.sizes[4]):
             if k < n_points:
                 if s.aux_real[k, ACTIVE] > 0.0:
                     point_sums(s, k, support2)
@@ -182,7 +152,7 @@ class Sampler:
         self.dim = dim = sim.dim
         self.n_points = len(points)
         self.n_groups = len(groups)
-        self.kernel, self.graph = probe_kernel(sim.solver)
+        self.builder = probe_kernel(sim.solver)
         self._uploaded = None  # the active points and groups last uploaded
         self.ranges = [(a, b, g) for g, ids in enumerate(groups) for a, b in id_ranges(ids)]
         real = sim.state.runtime.numpy_real
@@ -208,13 +178,8 @@ class Sampler:
             self.aux_real.from_numpy(self.inputs)
             self.aux_int.from_numpy(self.ints)
             self._uploaded = key
-        args = self.sim.state.args()._replace(aux_int=self.aux_int, aux_real=self.aux_real)
-        if self.graph is not None:
-            named = dict(zip(Args._fields, args))
-            named["t_target"] = float(time)
-            self.graph.run(named)
-        else:
-            self.kernel(*args, float(time))
+        kernel = self.sim.state.fields.kernel(("probes", self.builder), self.builder)
+        kernel(self.aux_int, self.aux_real, float(time))
         out = self.aux_real.to_numpy()
         P, d = self.n_points, self.dim
         return out[:P, d + 1].astype(float), out[:P, d + 2].astype(float), out[P:, :d].astype(float)
