@@ -23,42 +23,29 @@ else:  # pragma: no cover - Python 3.10 (the tomli dependency)
     import tomli as tomllib
 
 from .mesh import MeshError, load_surface
+from .probes.spec import KINDS, Probe  # noqa: F401  (Probe: what [[probes]] become)
 
 SOLVERS = ("wcsph", "dfsph")  # the solvers a scene file can ask for (taisph.Scene.solver)
 COMING = {}  # solvers named but not available yet: name -> message
 WALL_MODELS = ("dummy", "lj")
-PROBE_KINDS = ("pressure", "elevation", "force")
+PROBE_KINDS = KINDS  # pressure, elevation, force
 KERNELS = ("spline", "gaussian", "wendland")
 INTEGRATORS = ("pc", "euler", "eulermid", "eulermom")
 UP = 1  # the vertical axis: y, in 2D and 3D
 _MISSING = object()  # a key the file does not have
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor",
-            "dt", "domain", "physics", "materials", "fluid", "walls", "probes"}
+            "dt", "courant", "domain", "physics", "materials", "fluid", "walls", "probes"}
 PHYSICS = {"gravity": None, "alpha": 0.1, "delta": 0.1, "xsph": 0.0}  # None: (0, -9.81(, 0))
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic"}
 WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "open_top"}
-PROBE_KEYS = {"name", "kind", "at", "walls", "every"}
+PROBE_KEYS = {"name", "kind", "at", "to", "walls", "every"}
 
 
 class SceneFileError(ValueError):
     """A mistake in a scene file: ``str(err)`` names the file, the key and the value."""
-
-
-@dataclass
-class Probe:
-    """A measurement asked for by ``[[probes]]`` (sampled by the solver later):
-    ``pressure`` at the point `at`, ``elevation`` (free-surface height) along the
-    vertical line through `at` (x, or x and z), ``force`` on the wall group `walls`;
-    every `every` steps."""
-
-    name: str
-    kind: str
-    at: tuple | None = None
-    walls: str | None = None
-    every: int = 1
 
 
 @dataclass
@@ -99,6 +86,7 @@ class SceneSpec:
     integrator: str
     h_factor: float
     dt: float | None
+    courant: float | None  # the adaptive step's Courant number (None: the default, 0.25)
     gravity: tuple
     alpha: float
     delta: float
@@ -115,12 +103,14 @@ class SceneSpec:
 @dataclass
 class RunSettings:
     """What a scene file asks of the run besides the scene: end time, frames, the
-    solver, the probes, and the particles of each wall group (``name -> slice`` of
-    the scene's particle arrays, for force probes)."""
+    solver, the Courant number (None: the default), the probes, and the particles of
+    each wall group (``name -> slice`` of the scene's particle arrays, for force
+    probes)."""
 
     t_end: float
     frames: int
     solver: str
+    courant: float | None = None
     probes: list = field(default_factory=list)
     wall_groups: dict = field(default_factory=dict)
     source: Path | None = None
@@ -217,6 +207,12 @@ class _Checker:
             self.fail(key, value, "lo must be below hi along every axis")
         return lo, hi
 
+    def courant(self, value):
+        value = self.number("courant", value, positive=True)
+        if value > 1:
+            self.fail("courant", value, "must be at most 1 (dt = courant h / max(c + |v|))")
+        return value
+
     def text(self, key, value):
         if value is _MISSING:
             self.fail(key, value, "required")
@@ -255,6 +251,7 @@ class _Checker:
             integrator=self.choice("integrator", data.get("integrator", "pc"), INTEGRATORS),
             h_factor=self.number("h_factor", data.get("h_factor", 1.3), positive=True),
             dt=self.number("dt", data["dt"], positive=True) if "dt" in data else None,
+            courant=self.courant(data["courant"]) if "courant" in data else None,
             gravity=self.vector("physics.gravity", gravity, dim),
             alpha=self.number("physics.alpha", physics.get("alpha", PHYSICS["alpha"]), minimum=0),
             delta=self.number("physics.delta", physics.get("delta", PHYSICS["delta"]), minimum=0),
@@ -380,9 +377,10 @@ class _Checker:
             kind = self.choice(f"{key}.kind", p.get("kind", _MISSING), PROBE_KINDS)
             probe = Probe(name, kind, every=self.number(f"{key}.every", p.get("every", 1), integer=True, minimum=1))
             needs = {"pressure": "at", "elevation": "at", "force": "walls"}[kind]
-            for extra in {"at", "walls"} - {needs}:
+            for extra in sorted({"at", "to", "walls"} - {needs} - ({"to"} if kind == "pressure" else set())):
                 if extra in p:
-                    self.fail(f"{key}.{extra}", p[extra], f"a {kind} probe takes {needs}, not {extra}")
+                    self.fail(f"{key}.{extra}", p[extra], f"a {kind} probe takes {needs}"
+                              + (" (and to)" if kind == "pressure" else "") + f", not {extra}")
             if kind == "force":
                 probe.walls = self.text(f"{key}.walls", p.get("walls", _MISSING))
                 if probe.walls not in groups:
@@ -390,12 +388,13 @@ class _Checker:
                               + (", ".join(groups) or "none"))
             else:
                 axes = list(range(spec.dim)) if kind == "pressure" else [a for a in range(spec.dim) if a != UP]
-                at = self.vector(f"{key}.at", p.get("at", _MISSING), len(axes))
-                for a, v in zip(axes, at):
-                    if not lo[a] <= v <= hi[a]:
-                        self.fail(f"{key}.at", p["at"], f"{'xyz'[a]} = {v:g} is outside the domain "
-                                  f"({lo[a]:g} .. {hi[a]:g})")
-                probe.at = at
+                for point in ("at", "to") if "to" in p else ("at",):
+                    value = self.vector(f"{key}.{point}", p.get(point, _MISSING), len(axes))
+                    for a, v in zip(axes, value):
+                        if not lo[a] <= v <= hi[a]:
+                            self.fail(f"{key}.{point}", p[point], f"{'xyz'[a]} = {v:g} is outside the domain "
+                                      f"({lo[a]:g} .. {hi[a]:g})")
+                    setattr(probe, point, value)
             out.append(probe)
         return out
 

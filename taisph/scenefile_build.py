@@ -75,7 +75,7 @@ def build(spec: SceneSpec):
     groups = {}
     for block in spec.walls:
         groups[block.name] = scene.add_walls(_wall_points(spec, block))
-    settings = RunSettings(spec.t_end, spec.frames, spec.solver, list(spec.probes), groups, spec.path)
+    settings = RunSettings(spec.t_end, spec.frames, spec.solver, spec.courant, list(spec.probes), groups, spec.path)
     return scene, settings
 
 
@@ -163,6 +163,39 @@ def _wall_points(spec, block):
     return surface_points(block.surface, dx / 2.0)
 
 
+# --- a scene file as a case (sweeps) ---------------------------------------------------
+# The keys of a scene file a sweep may set or vary, as case parameters: name -> file key
+SWEEP_KEYS = {"dx": "dx", "t_end": "t_end", "frames": "frames", "integrator": "integrator", "kernel": "kernel",
+              "h_factor": "h_factor", "alpha": "physics.alpha", "delta": "physics.delta", "xsph": "physics.xsph"}
+
+
+def scene_factory(path):
+    """A case-like function for the scene file `path` (or the name of a shipped one):
+    ``factory(dx=..., alpha=...) -> Scene``, its parameters the keys of
+    :data:`SWEEP_KEYS` with the file's values as defaults and their ranges declared
+    (``factory.ranges``), as the built-in cases have them: what ``python -m taisph
+    sweep SCENE.toml --vary dx=...`` runs. Raises SceneFileError for a bad file."""
+    from .parameters import at_least, checked, integer, known_integrator, known_kernel, positive, smoothing_factor
+
+    path = find_scene_file(str(path)).resolve()
+    spec = read(path)
+
+    def scene(dx, t_end, frames, integrator, kernel, h_factor, alpha, delta, xsph):
+        values = dict(dx=dx, t_end=t_end, frames=frames, integrator=integrator, kernel=kernel, h_factor=h_factor,
+                      alpha=alpha, delta=delta, xsph=xsph)
+        return load(path, {SWEEP_KEYS[k]: v for k, v in values.items()})[0]
+
+    scene.__defaults__ = (spec.dx, spec.t_end, spec.frames, spec.integrator, spec.kernel, spec.h_factor,
+                          spec.alpha, spec.delta, spec.xsph)
+    scene.__name__ = scene.__qualname__ = spec.name
+    scene.__doc__ = f"{spec.description or spec.name} (scene file {path})"
+    scene.path = path
+    scene.courant = spec.courant  # a run setting, not the scene's: the sweep passes it on
+    return checked(dx=positive, t_end=positive, frames=integer(at_least=1), integrator=known_integrator,
+                   kernel=known_kernel, h_factor=smoothing_factor, alpha=at_least(0), delta=at_least(0),
+                   xsph=at_least(0))(scene)
+
+
 # --- command line ----------------------------------------------------------------------
 def cases_folder() -> Path:
     import taisph
@@ -220,9 +253,9 @@ def main(argv) -> int:
 
 
 def run_file(path: Path, args) -> int:
-    from .cli.main import simulate
+    from .cli.main import command_line_probes, output_folder, probe_notes, probe_writers, simulate
 
-    overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "solver")
+    overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant", "solver")
                  if getattr(args, k) is not None}
     for item in args.set:
         if "=" not in item:
@@ -231,7 +264,17 @@ def run_file(path: Path, args) -> int:
         overrides[key.strip()] = _set_value(text.strip())
     scene, settings = load(path, overrides)
     notes = [f"wall group {name}: {group.stop - group.start} particles" for name, group in settings.wall_groups.items()]
-    if settings.probes:
-        notes.append("probes (checked; sampling them is not implemented yet): "
-                     + ", ".join(f"{p.name} ({p.kind})" for p in settings.probes))
-    return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes)
+    probes = list(settings.probes) + command_line_probes(args, scene.dim, settings.wall_groups)
+    names = [p.name for p in probes]
+    for name in names:
+        if names.count(name) > 1:
+            raise ValueError(f"--probe: two probes named {name!r} (the scene file's and --probe's names must differ)")
+    out = output_folder(scene, args)
+    writers = probe_writers(probes, settings.wall_groups, out)
+    notes += probe_notes(probes, out)
+    try:
+        return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes, writers=writers,
+                        controls={"courant": settings.courant} if settings.courant else None)
+    finally:
+        for writer in writers:
+            writer.close()

@@ -239,7 +239,7 @@ class Simulation:
             run_writers.append(CheckpointWriter(Path(out) / "checkpoint", checkpoint_every, t_end, frames,
                                                 frame_writer))
         run_writers += list(writers)
-        self._step_writers = [w for w in run_writers if getattr(w, "every", None)]
+        self._step_writers = [w for w in run_writers if callable(getattr(w, "on_steps", None))]
         frames0 = frame_writer.frame if frame_writer else 0
         for writer in run_writers:
             writer.on_start(self)

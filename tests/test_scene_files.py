@@ -87,6 +87,17 @@ def test_a_scene_file_returns_the_scene_and_its_run_settings(tmp_path):
     np.testing.assert_allclose(pressure, 1000 * 9.81 * 0.475, rtol=1e-9)
 
 
+def test_the_courant_number_is_a_run_setting(tmp_path, capsys):
+    """courant = 0.2 in the file is the adaptive step's Courant number of the run
+    (RunSettings.courant; the run says so); --courant replaces it; none: 0.25."""
+    assert load(scene_file(tmp_path))[1].courant is None
+    path = scene_file(tmp_path, TANK.replace("frames = 2", "frames = 2\ncourant = 0.2"))
+    assert load(path)[1].courant == 0.2
+    for options, shown in (([], "Courant 0.2;"), (["--courant", "0.1"], "Courant 0.1;")):
+        assert cli([str(path), "--t-end", "0.001", "--no-output", "--no-progress", *options]) == 0
+        assert f"adaptive dt ({shown}" in capsys.readouterr().out
+
+
 def test_overrides_replace_values_before_the_checks(tmp_path):
     spec = read(scene_file(tmp_path), {"dx": 0.1, "physics.alpha": 0.05, "t_end": 1.5})
     assert (spec.dx, spec.alpha, spec.t_end) == (0.1, 0.05, 1.5)
@@ -106,6 +117,7 @@ MISTAKES = [  # (old text, new text, key, value shown, problem)
     ('dim = 2', 'dim = 4', "dim", "4", "expected 2 or 3"),
     ('solver = "wcsph"', 'solver = "isph"', "solver", "'isph'", "expected one of 'wcsph'"),
     ('frames = 2', 'frames = 2\nfrmes = 3', "frmes", "3", "unknown key"),
+    ('frames = 2', 'frames = 2\ncourant = 1.5', "courant", "1.5", "must be at most 1"),
     ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81, 0.0]', "physics.gravity", "[0.0, -9.81, 0.0]",
      "expected a list of 2 numbers"),
     ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81]\nviscosity = 1e-6', "physics.viscosity", "1e-06", "unknown key"),
@@ -134,6 +146,9 @@ MISTAKES = [  # (old text, new text, key, value shown, problem)
     ('kind = "elevation"', 'kind = "velocity"', "probes[1].kind", "'velocity'", "expected one of 'pressure'"),
     ('every = 5', 'every = 0', "probes[1].every", "0", "must be at least 1"),
     ('every = 5', 'every = 5\nwalls = "tank"', "probes[1].walls", "'tank'", "a elevation probe takes at, not walls"),
+    ('at = [0.5, 0.05]', 'at = [0.5, 0.05]\nto = [0.5, 9.0]', "probes[0].to", "[0.5, 9.0]",
+     "y = 9 is outside the domain"),
+    ('every = 5', 'every = 5\nto = [0.3]', "probes[1].to", "[0.3]", "a elevation probe takes at, not to"),
     ('walls = "tank"\n', 'walls = "roof"\n', "probes[2].walls", "'roof'",
      "no wall group of that name; wall groups: tank, rock"),
 ]
@@ -219,7 +234,9 @@ def test_shipped_scene_files_are_listed(capsys):
 
 def test_2d_dam_break_with_probes_runs_and_collapses(tmp_path):
     scene, settings = load(cases_folder() / "dam_break_probes_2d.toml", {"dx": 0.04})
-    assert [p.name for p in settings.probes] == ["P1", "P2", "gauge_x0.6", "gauge_x2.0", "tank_force"]
+    assert [p.name for p in settings.probes] == ["P1", "P2", "P1_point", "P2_point", "gauge_x0.6", "gauge_x2.0",
+                                                 "tank_force"]
+    assert settings.courant == 0.125
     sim = taisph.Simulation(scene)
     fluid = sim.fluid
     mass0 = sim.masses()[fluid].sum()

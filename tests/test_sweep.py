@@ -188,6 +188,50 @@ def test_cli_sweeps_through_an_existing_scheduler(dask_cluster, tmp_path, capsys
     assert "2 runs: 2 ok, 0 failed" in printed and "| dx | status | steps |" in printed
 
 
+SCENE_FILE = """\
+name = "pool"
+dim = 2
+dx = 0.1
+t_end = 0.05
+frames = 1
+solver = "wcsph"
+
+[[fluid]]
+box = [[0.0, 0.0], [1.0, 0.5]]
+
+[[walls]]
+name = "tank"
+box = [[0.0, 0.0], [1.0, 1.0]]
+"""
+
+
+def test_cli_sweeps_a_scene_file(tmp_path, capsys):
+    """python -m taisph sweep SCENE.toml --vary dx=0.1,0.05 --set alpha=0.05 (issue 16:
+    CASE_OR_SCENE): plain runs of the file (it has no reference), on a LocalCluster of
+    one worker; each row's steps, simulated time and fluid particles are those of the
+    scene file run directly with that dx and alpha; the table names the file."""
+    path = tmp_path / "pool.toml"
+    path.write_text(SCENE_FILE)
+    out = tmp_path / "sweep"
+    code = cli(["sweep", str(path), "--vary", "dx=0.1,0.05", "--set", "alpha=0.05", "--deterministic",
+                "--workers", "1", "--out", str(out), "--no-progress"])
+    printed = capsys.readouterr().out
+    assert code == 0, printed
+    from taisph.scenefile import load
+
+    for row in read_csv(out):
+        assert row["status"] == "ok" and row["error"] == "nan"
+        scene = load(path, {"dx": float(row["dx"]), "physics.alpha": 0.05})[0]
+        assert scene.terms_by_name["artificial_viscosity"].values["alpha"] == 0.05
+        sim = taisph.Simulation(scene, deterministic=True)
+        summary = sim.run()
+        sim.close()
+        assert (int(row["steps"]), float(row["sim_time_s"]), int(row["fluid_particles"])) == (
+            summary.steps, summary.sim_time, summary.fluid_particles)
+    assert sorted(r["dx"] for r in read_csv(out)) == ["0.05", "0.1"]
+    assert f"# Sweep of {path}" in printed and "2 runs: 2 ok, 0 failed" in printed
+
+
 @pytest.mark.parametrize("argv, message", [
     (["nocase", "--vary", "dx=0.1"], "unknown case 'nocase'; cases: couette, dam_break"),
     ([CASE, "--vary", "dxx=0.1"], "hydrostatic_tank has no parameter 'dxx'; allowed are case parameters: dx,"),
@@ -201,6 +245,11 @@ def test_cli_sweeps_through_an_existing_scheduler(dask_cluster, tmp_path, capsys
     ([CASE, "--vary", "dt=1e-4,1e-3"], "dt: not available when each run is hydrostatic_tank's validation"),
     (["dam_break", "--vary", "dx=0.1", "--t-end", "0.1"], "t_end: dam_break's validation runs to T_end"),
     ([CASE, "--vary", "dx=0.1,0.1"], "dx: a value is given twice"),
+    (["nothere.toml", "--vary", "dx=0.1"], "nothere.toml: no such scene file"),
+    (["dam_break_probes_2d.toml", "--vary", "dxx=0.1"], "cases/dam_break_probes_2d.toml has no parameter 'dxx'; "
+                                                        "allowed are case parameters: dx, t_end, frames, "
+                                                        "integrator, kernel, h_factor, alpha, delta, xsph;"),
+    (["dam_break_probes_2d.toml", "--vary", "dx=0.1,-1"], "cases/dam_break_probes_2d.toml: dx must be > 0, got -1.0"),
 ])
 def test_bad_input_is_refused_before_any_run(tmp_path, capsys, argv, message):
     """Exit code 2 and a message naming the problem and what is allowed; no folder is

@@ -10,8 +10,11 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
+from ..engine.layout import WALL
 from . import cases
-from .parser import FRAMES, NON_NEGATIVE, POSITIVE, SKIN, THREADS, Parser
+from .parser import COURANT, FRAMES, NON_NEGATIVE, POSITIVE, SKIN, THREADS, Parser
 
 USAGE = """\
 python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
@@ -51,6 +54,8 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g.add_argument("--t-end", type=POSITIVE, help="simulated end time (s, > 0)")
     g.add_argument("--dt", type=POSITIVE, help="fixed time step (s, > 0); default: adaptive (CFL, force and viscous limits)")
     g.add_argument("--frames", type=FRAMES, help="frames to write after the initial one (>= 1; default: the case's)")
+    g.add_argument("--courant", type=COURANT, metavar="C",
+                   help="Courant number of the adaptive step dt = C h / max(c + |v|) (0 < C <= 1; default 0.25)")
     g = parser.add_argument_group("numerics")
     g.add_argument("--solver", choices=["wcsph", "dfsph"],
                    help="wcsph: weakly compressible (the default); dfsph: divergence-free SPH, an implicit "
@@ -76,6 +81,10 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g = parser.add_argument_group("output and machine")
     g.add_argument("--out", type=Path, help="output folder (default: out/CASE)")
     g.add_argument("--no-output", action="store_true", help="write no frames (benchmarking)")
+    g.add_argument("--probe", action="append", default=[], metavar="KIND:NAME:WHERE[:EVERY]",
+                   help="sample a probe into OUT/probes.csv (repeatable): pressure:P1:3.22,0.16 (a point), "
+                        "elevation:gauge:0.6:10 (a vertical line at x = 0.6, every 10 steps), force:F:walls "
+                        "(all wall particles; a scene file's wall group names); docs/scenes.md")
     g.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"], help="Taichi backend (default cpu)")
     g.add_argument("--threads", type=THREADS, help="CPU threads (>= 1; default: all cores)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -161,25 +170,75 @@ def run_case(name: str, argv) -> int:
         scene.solver = solver
     if args.dt is not None:
         scene.dt = args.dt
-    return simulate(scene, args)
+    walls = {"walls": np.flatnonzero(scene.kind == WALL)}
+    probes = command_line_probes(args, scene.dim, walls)
+    out = output_folder(scene, args)
+    writers = probe_writers(probes, walls, out)
+    try:
+        return simulate(scene, args, writers=writers, notes=probe_notes(probes, out))
+    finally:
+        for writer in writers:
+            writer.close()
 
 
-def simulate(scene, args, t_end=None, frames=None, notes=(), writers=()) -> int:
+def command_line_probes(args, dim, walls) -> list:
+    """The ``--probe`` options as probes, checked (wall groups included) before anything is built."""
+    from ..probes import parse
+
+    probes = [parse(text, dim) for text in args.probe]
+    for p in probes:
+        if p.kind == "force" and p.walls not in walls:
+            raise ValueError(f"--probe force:{p.name}:{p.walls}: no wall group {p.walls!r}; wall groups: "
+                             + (", ".join(walls) or "none"))
+    return probes
+
+
+def probe_notes(probes, out) -> list:
+    """The line a run prints about its probes."""
+    if not probes:
+        return []
+    if out is None:
+        return ["probes: not sampled (--no-output)"]
+    return [f"probes to {Path(out) / 'probes.csv'}: "
+            + ", ".join(f"{p.name} ({p.kind}{f', every {p.every} steps' if p.every > 1 else ''})" for p in probes)]
+
+
+def probe_writers(probes, walls, out) -> list:
+    """A :class:`taisph.probes.Probes` writer into OUT/probes.csv, if there are probes and an output folder."""
+    if not probes or out is None:
+        return []
+    from ..probes import Probes
+
+    return [Probes(probes, walls=walls, path=Path(out) / "probes.csv")]
+
+
+def output_folder(scene, args) -> Path | None:
+    """Where a run writes (``--out``, default ``out/NAME``); None with ``--no-output``."""
+    return None if args.no_output else (args.out or Path("out") / scene.name)
+
+
+def simulate(scene, args, t_end=None, frames=None, notes=(), writers=(), controls=None) -> int:
     """Simulate `scene` as the case options `args` say (output folder, guards, machine,
-    progress), print its description (and `notes`), the set-up time and the summary."""
+    progress), print its description (and `notes`), the set-up time and the summary.
+    `controls`: further simulation controls (a scene file's ``courant``); ``--courant``
+    overrides."""
     import taisph
 
     if args.neighbour_skin is not None:
         scene.neighbour_skin = args.neighbour_skin
-    out = None if args.no_output else (args.out or Path("out") / scene.name)
+    out = output_folder(scene, args)
     print(scene.describe())
     for line in notes:
         print(f"  {line}")
     start = time.perf_counter()
+    controls = dict(controls or {})
+    if args.courant is not None:
+        controls["courant"] = args.courant
     sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads,
                             max_density_error=args.max_density_error, remove_escaped=args.remove_escaped or None,
-                            deterministic=args.deterministic)
-    step = f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt else f"adaptive dt (first {sim.dt:.3g} s)"
+                            deterministic=args.deterministic, **controls)
+    step = (f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt
+            else f"adaptive dt (Courant {sim.controls.courant:g}; first {sim.dt:.3g} s)")
     print(f"  {sim.runtime.arch}, {sim.runtime.precision}, {sim.runtime.threads} thread(s); {step}; "
           f"ready in {time.perf_counter() - start:.2f} s (kernel compilation included)")
     summary = sim.run(args.t_end if t_end is None else t_end, frames=args.frames if frames is None else frames,

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..parameters import Range, at_least, between, integer, positive
+from ..parameters import Range, at_least, between, courant_number, integer, positive
 
 
 class UsageError(ValueError):
@@ -66,4 +66,5 @@ POSITIVE = ranged(positive, "positive number")
 FRAMES = ranged(integer(at_least=1), "frames")
 THREADS = ranged(integer(at_least=1), "threads")
 NON_NEGATIVE = ranged(at_least(0), "non-negative number")
+COURANT = ranged(courant_number, "Courant number")
 SKIN = ranged(between(0, 2), "skin")  # a fraction of the support radius (Scene.validate's range)

@@ -15,8 +15,9 @@ LocalCluster of --workers processes started here (one per core, each run using i
 of the cores), or an existing cluster with --scheduler tcp://host:port (started with
 `dask scheduler` and `dask worker tcp://host:port --nworkers N --nthreads 1`).
 
-Names: any case parameter (CASE --help), the run settings precision, threads, dt (a value
-or none), neighbour_skin, max_density_error, deterministic, remove_escaped and, for
+Names: any case parameter (CASE --help; a scene file's: dx, t_end, frames, integrator, kernel,
+h_factor, alpha, delta, xsph, its values the defaults), the run settings precision, threads, dt (a value
+or none), courant, neighbour_skin, max_density_error, deterministic, remove_escaped and, for
 validation runs, the validation's keywords (dt_factor, T_end, samples, ...).
 
 A case with a reference (dam_break, hydrostatic_tank, poiseuille, couette, taylor_green,
@@ -30,6 +31,7 @@ examples:
   python -m taisph sweep hydrostatic_tank --vary dx=0.1,0.05 --vary kernel=spline,wendland --t-end 0.5 --out sweeps/tank
   python -m taisph sweep dam_break --vary dx=0.1,0.05 --set T_end=1 --workers 2 --out sweeps/db
   python -m taisph sweep dam_break --no-validate --vary dt=1e-4,2e-3 --dx 0.1 --t-end 0.2 --out sweeps/dt
+  python -m taisph sweep dam_break_probes_2d.toml --vary dx=0.04,0.02 --t-end 0.5 --out sweeps/scene
   python -m taisph sweep poiseuille --vary dx=1e-4,5e-5 --scheduler tcp://10.0.0.5:8786 --out sweeps/p"""
 
 
@@ -38,7 +40,7 @@ def build_parser() -> Parser:
     UsageError, printed by :func:`main` with exit code 2)."""
     parser = Parser(prog="python -m taisph sweep", description=__doc__.splitlines()[0][:-1] + ".",
                                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("case", help="case name (python -m taisph list)")
+    parser.add_argument("case", help="case name (python -m taisph list), or a scene file SCENE.toml")
     parser.add_argument("--vary", action="append", default=[], metavar="NAME=v1,v2,...",
                         help="values of one parameter or setting; repeatable: the runs are the product")
     g = parser.add_argument_group("every run (as for a single run: python -m taisph CASE --help)")
@@ -49,6 +51,7 @@ def build_parser() -> Parser:
     g.add_argument("--integrator", help="time integrator")
     g.add_argument("--kernel", help="smoothing kernel")
     g.add_argument("--dt", help="fixed time step (s); default: adaptive")
+    g.add_argument("--courant", help="Courant number of the adaptive step (default 0.25, or the scene file's)")
     g.add_argument("--precision", help="f32 or f64 (default f64)")
     g.add_argument("--neighbour-skin", help="neighbour list skin (default 0: no lists)")
     g.add_argument("--max-density-error", help="guard: stop when |rho/rho0 - 1| exceeds this (default 0.2)")
@@ -77,14 +80,17 @@ def fixed_values(args) -> dict:
     from . import cases
 
     fixed = {}
-    for option in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "precision", "neighbour_skin",
+    for option in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant", "precision", "neighbour_skin",
                    "max_density_error", "threads"):
         if getattr(args, option) is not None:
             fixed[option] = getattr(args, option)
     for flag in ("deterministic", "remove_escaped"):
         if getattr(args, flag):
             fixed[flag] = True
-    parameters = cases.parameters(args.case)
+    from ..sweeps import plan
+
+    scene_file = plan.is_scene_file(args.case)
+    parameters = plan.case_parameters(args.case)
     for item in args.set:
         name, sep, value = item.partition("=")
         name = name.strip().replace("-", "_")
@@ -92,7 +98,8 @@ def fixed_values(args) -> dict:
             raise ValueError(f"--set expects NAME=VALUE, got {item!r}")
         if name in fixed:
             raise ValueError(f"{name} is given twice")
-        fixed[name] = cases.parse_setting(args.case, item)[1] if name in parameters else value.strip()
+        known = name in parameters and not scene_file  # a scene file's are parsed by the sweep
+        fixed[name] = cases.parse_setting(args.case, item)[1] if known else value.strip()
     return fixed
 
 

@@ -46,6 +46,11 @@ class State:
         raise AttributeError(name)
 
     @property
+    def args(self) -> Args:
+        """All the fields, as the kernels see them."""
+        return self.fields.args
+
+    @property
     def C(self):
         return self.fields.args[:3]
 

@@ -80,7 +80,9 @@ def load(folder, arch=None, threads=None):
 
 
 class CheckpointWriter:
-    """A run writer: a checkpoint to `folder` every `every` frames."""
+    """A run writer: a checkpoint to `folder` every `every` frames (kept as
+    ``every_frames``: a writer's ``every`` means "call on_steps every k steps",
+    :meth:`taisph.Simulation.run`)."""
 
     def __init__(self, folder, every_frames: int, t_end: float, frames: int, frame_writer=None):
         self.folder, self.every_frames, self.t_end, self.frames = Path(folder), every_frames, t_end, frames

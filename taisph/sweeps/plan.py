@@ -14,7 +14,8 @@ import os
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
-from ..parameters import ParameterError, Number, Range, at_least, between, flag, integer, one_of, optional, positive
+from ..parameters import (ParameterError, Number, Range, at_least, between, courant_number, flag, integer, one_of,
+                          optional, positive)
 
 
 class Numbers(Range):
@@ -44,6 +45,7 @@ SETTINGS = {
     "precision": (one_of("f32", "f64"), "float precision of the run"),
     "threads": (integer(at_least=1), "CPU threads of the run"),
     "dt": (optional(positive), "fixed time step (s); none: adaptive"),
+    "courant": (courant_number, "Courant number of the adaptive step (default 0.25, or a scene file's)"),
     "neighbour_skin": (between(0, 2), "neighbour list skin (fraction of the support radius)"),
     "max_density_error": (at_least(0), "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
     "deterministic": (flag, "serial cell sort: bit-for-bit reproducible runs"),
@@ -73,18 +75,44 @@ class Name(NamedTuple):
     range: Range  # what is allowed; parses text (taisph.parameters)
 
 
+def is_scene_file(case: str) -> bool:
+    """Is the sweep's CASE a scene file (``*.toml``) rather than a built-in case?"""
+    return str(case).endswith(".toml")
+
+
 def resolve_case(case: str):
     """The scene factory of `case`: ``factory(**params) -> Scene``.
 
     The one place a sweep turns its CASE argument into scenes, in the starting
     process and in every worker: the command line's registry
-    (:func:`taisph.cli.cases.find`)."""
+    (:func:`taisph.cli.cases.find`), or for a scene file its factory
+    (:func:`taisph.scenefile_build.scene_factory`: dx, t_end, frames, integrator,
+    kernel, h_factor, alpha, delta, xsph)."""
+    if is_scene_file(case):
+        from ..scenefile import SceneFileError
+        from ..scenefile_build import scene_factory
+
+        try:
+            return scene_factory(case)
+        except SceneFileError as err:
+            raise SweepError(str(err)) from None
     from ..cli import cases
 
     try:
         return cases.find(case)
     except ParameterError as err:
         raise SweepError(str(err)) from None
+
+
+def case_parameters(case: str) -> dict:
+    """{name: Parameter (name, default, range)} of a built-in case or a scene file."""
+    from ..cli import cases
+
+    if not is_scene_file(case):
+        return cases.parameters(case)
+    factory = resolve_case(case)
+    return {name: cases.Parameter(name, p.default, factory.ranges[name])
+            for name, p in inspect.signature(factory).parameters.items()}
 
 
 def has_reference(case: str) -> bool:
@@ -97,10 +125,7 @@ def names(case: str, validate: bool) -> dict[str, Name]:
     """Every name a sweep of `case` may set or vary, with its kind, default and range:
     the case's parameters as declared in its file (:func:`taisph.cli.cases.parameters`),
     the run settings and, for validation runs, the validation's keywords."""
-    from ..cli import cases
-
-    resolve_case(case)
-    allowed = {name: Name("case", p.default, p.range) for name, p in cases.parameters(case).items()}
+    allowed = {name: Name("case", p.default, p.range) for name, p in case_parameters(case).items()}
     allowed.update({name: Name("setting", None, rng) for name, (rng, _) in SETTINGS.items()})
     if validate:
         from ..validation import VALIDATIONS
@@ -228,7 +253,9 @@ def plan_tasks(case: str, vary: dict, fixed: dict, validate: bool | None = None,
     given `fixed` ({name: value}); values may be text (parsed) or values. Returns
     (tasks, validate) where validate (default: the case has a reference) says whether
     each run is the case's validation run."""
-    resolve_case(case)
+    factory = resolve_case(case)
+    if is_scene_file(case):  # workers may run elsewhere: the file's absolute path
+        case = str(factory.path)
     if validate is None:
         validate = has_reference(case)
     elif validate and not has_reference(case):
@@ -258,6 +285,8 @@ def plan_tasks(case: str, vary: dict, fixed: dict, validate: bool | None = None,
         everything = {**parsed_fixed, **combination}
         settings = {k: v for k, v in everything.items() if allowed[k].kind == "setting"}
         settings.setdefault("precision", "f64")
+        if getattr(factory, "courant", None) is not None:  # a scene file's own Courant number
+            settings.setdefault("courant", factory.courant)
         params = {k: v for k, v in everything.items() if allowed[k].kind != "setting"}
         name = run_name(combination)
         folder = os.path.join(out, name) if (out is not None and frames_per_run) else None

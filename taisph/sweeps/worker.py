@@ -27,7 +27,7 @@ import time
 from .plan import Task, resolve_case
 
 _ONE_RUN_AT_A_TIME = threading.Lock()
-_CONTROLS = ("max_density_error", "deterministic", "remove_escaped")
+_CONTROLS = ("max_density_error", "deterministic", "remove_escaped", "courant")
 
 
 def run_task(task: Task) -> dict:

@@ -1,0 +1,60 @@
+"""Probes: pressure at a point, free-surface elevation along a vertical line (a wave
+gauge) and the pressure force on a group of wall particles, sampled during a run.
+
+    >>> from taisph.probes import Probes, pressure, elevation, force
+    >>> probes = Probes([pressure("P1", at=(3.22, 0.16)), elevation("gauge", at=0.6, every=10),
+    ...                  force("floor", walls=floor_ids)], path="out/probes.csv")  # doctest: +SKIP
+    >>> sim.run(1.5, writers=[probes])                                           # doctest: +SKIP
+    >>> probes.times, probes.values["P1"], probes.values["floor"]                # doctest: +SKIP
+
+A scene file's ``[[probes]]`` are sampled the same way into ``OUT/probes.csv``
+(docs/scenes.md). Definitions (V_j = m_j / rho_j, W the scene's kernel and h; sums
+over fluid particles j within the kernel support of x):
+
+``pressure`` at x: the Shepard interpolation of the fluid's pressure,
+
+    p(x) = sum_j p_j V_j W(x - x_j) / phi(x),     phi(x) = sum_j V_j W(x - x_j),
+
+where phi, the fluid fraction (1 inside the water, 1/2 on a flat free surface or a
+wall face, 1/4 in a corner), is at least ``min_fluid_fraction`` = 0.2; below it the
+probe reads no value (NaN; ``nan`` in the CSV): a point more than about h above the
+water, or one lone splash particle (which alone gives phi <= 0.27 in 2D, 0.15 in 3D
+with the cubic spline and h = 1.3 dx). Wall particles do not enter the sums.
+
+``elevation`` along the vertical line through (x, z): the highest height at which
+phi falls through 1/2 going up (phi sampled every dx/2 along the line, across the
+domain's height, and interpolated linearly), the level at which a flat free surface
+lies (DualSPHysics's water-level gauge uses the same criterion on the kernel sum of
+mass, with a threshold of 0.4-0.5 of a particle's mass). A
+splash or a lone particle above the surface does not count (phi < 1/2); no water
+on the line reads NaN.
+
+``force`` on a wall group: the force of the fluid on those wall particles as the
+momentum equation has it, minus the sum over fluid particles f of m_f times the
+acceleration each wall particle w of the group gives f through the pressure terms
+(:data:`taisph.probes.device.FORCE_TERMS`: the pressure gradient with dummy walls,
+the Lennard-Jones force with those walls). By Newton's third law these are the
+forces the fluid feels from the wall, so in still water the forces on all walls add
+up to the water's weight, whatever the walls' discretisation; the alternative, each
+wall particle's extrapolated pressure times an area, needs wall normals and areas
+and is only right for the first layer of particles of a flat wall (DualSPHysics's
+force gauge also sums the SPH accelerations of the boundary particles). Viscous wall
+forces are not included (a pressure force).
+
+Which state: a sample reads the cell-sorted state ``S`` the last step's rates were
+computed from, after the step: the one the forces were computed from, with the dummy
+walls' extrapolated pressure (the updated state ``C`` has no wall pressure, and its
+pressure is not computed until the next step). With the default predictor-corrector
+``S`` holds the new positions x^{n+1} and the predicted density (O(dt^2) from the
+corrected one); the sample is labelled t^{n+1}. With the Euler-type integrators
+``S`` is the state at the start of the step, and the sample is labelled t^n.
+
+Cost: one kernel launch per sample (the sums of all due probes in one parallel
+loop) and a download of a few numbers per point; measured in docs/scenes.md.
+"""
+
+from .spec import KINDS, Probe, elevation, force, parse, pressure
+from .writer import ELEVATION_FRACTION, MIN_FLUID_FRACTION, Probes, read_csv, surface_height
+
+__all__ = ["Probe", "Probes", "pressure", "elevation", "force", "read_csv", "surface_height", "KINDS",
+           "ELEVATION_FRACTION", "MIN_FLUID_FRACTION"]

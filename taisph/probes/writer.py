@@ -1,0 +1,244 @@
+""":class:`Probes`: a run writer that samples probes every k steps, keeps the samples
+as numpy and writes them, a row at a time, to a CSV file (``OUT/probes.csv``)."""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..engine import status as st
+from ..engine.integrators import PredictorCorrector
+from ..engine.layout import WALL
+from .device import Sampler
+from .spec import UP, Probe
+
+ELEVATION_FRACTION = 0.5  # the free surface: where the fluid fraction phi falls through 1/2
+MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a corner has 1/4; taisph.probes)
+
+
+class Probes:
+    """Sample `probes` (:class:`taisph.probes.Probe`) during a run; pass it as a
+    writer, ``sim.run(t_end, writers=[probes])``.
+
+    ``walls``    {group name: particle ids} for force probes that name a group (a
+                 scene file's ``RunSettings.wall_groups``);
+    ``path``     a CSV file written as samples are taken (a header, then one flushed
+                 line per sample), or None;
+    ``min_fluid_fraction``  a pressure probe reads NaN where the fluid fraction phi
+                 at its point is below this (default 0.2; see :mod:`taisph.probes`).
+
+    A sample is taken when the run starts from a new simulation (its initial state)
+    and after every ``every`` steps, ``every`` the greatest common divisor of the
+    probes' own; a probe is sampled when its own ``every`` divides the steps since
+    the run started, else its cell of that row is empty. Results: :attr:`times` (s),
+    :attr:`values` ({name: array}, NaN where no value or not sampled; a force is
+    (N, dim)), :meth:`series` (one probe's own samples), :meth:`columns` (the CSV's).
+    """
+
+    def __init__(self, probes, walls=None, path=None, min_fluid_fraction: float = MIN_FLUID_FRACTION):
+        self.probes = [p if isinstance(p, Probe) else Probe(**p) for p in probes]
+        names = [p.name for p in self.probes]
+        if not self.probes:
+            raise ValueError("Probes needs at least one probe")
+        if len(set(names)) != len(names):
+            raise ValueError(f"probe names must differ: {', '.join(names)}")
+        self.walls = dict(walls or {})
+        self.path = Path(path) if path is not None else None
+        if not 0 < min_fluid_fraction < 1:
+            raise ValueError(f"min_fluid_fraction = {min_fluid_fraction!r}: expected a number in (0, 1)")
+        self.min_fluid_fraction = float(min_fluid_fraction)
+        self.every = math.gcd(*[p.every for p in self.probes]) if all(
+            isinstance(p.every, int) and p.every >= 1 for p in self.probes) else None
+        self.sim = None
+        self._sampler = None
+        self._file = None
+        self._times: list = []
+        self._rows: list = []  # per sample: one float per column, NaN where no value
+        self._taken: list = []  # per sample: one bool per probe
+        self._steps = 0
+
+    # --- the writer protocol (taisph.Simulation.run) ----------------------------------
+    def on_start(self, sim):
+        if self.sim is None:
+            self._bind(sim)
+        elif self.sim is not sim:
+            raise ValueError("a Probes writer samples one simulation; make another for this one")
+        self._steps = 0
+        if sim.steps == 0:  # S holds the bootstrap evaluation of the initial state
+            self.sample(sim, self.probes)
+
+    def on_steps(self, sim):
+        self._steps += self.every
+        due = [p for p in self.probes if self._steps % p.every == 0]
+        if due:
+            self.sample(sim, due)
+
+    def on_frame(self, sim, k):
+        pass
+
+    # --- set-up -----------------------------------------------------------------------
+    def _bind(self, sim):
+        dim = sim.dim
+        for p in self.probes:
+            p.check(dim)
+        kinds = sim.scene.kind
+        points, self._slices, groups = [], {}, []
+        lo, hi = (np.asarray(v, float) for v in sim.scene.domain)
+        spacing = sim.scene.dx / 2.0
+        self._line = np.arange(lo[UP], hi[UP] + 0.5 * spacing, spacing)  # heights of elevation samples
+        for p in self.probes:
+            start = len(points)
+            if p.kind == "pressure" and p.to is None:
+                points.append(np.asarray(p.at, float))
+            elif p.kind == "pressure":  # a sensor's face: points at most dx/2 apart, at the parts' middles
+                a, b = np.asarray(p.at, float), np.asarray(p.to, float)
+                parts = max(1, math.ceil(np.linalg.norm(b - a) / spacing - 1e-9))
+                points += [a + (k + 0.5) / parts * (b - a) for k in range(parts)]
+            elif p.kind == "elevation":
+                for y in self._line:
+                    x = list(p.at)
+                    x.insert(UP, y)
+                    points.append(np.asarray(x, float))
+            else:
+                ids = self.walls.get(p.walls) if isinstance(p.walls, str) else p.walls
+                if ids is None:
+                    raise ValueError(f"probe {p.name!r}: no wall group {p.walls!r}; groups: "
+                                     f"{', '.join(self.walls) or 'none (pass walls={name: ids})'}")
+                index = np.arange(sim.n)[ids]
+                if len(index) == 0 or np.any(kinds[index] != WALL):
+                    raise ValueError(f"probe {p.name!r}: walls {p.walls!r} must be wall particles "
+                                     f"({np.count_nonzero(kinds[index] != WALL)} of {len(index)} are not)")
+                self._slices[p.name] = len(groups)
+                groups.append(index)
+                continue
+            self._slices[p.name] = slice(start, len(points))
+        self._sampler = Sampler(sim, np.reshape(points, (-1, dim)), groups)
+        self._time_lags = not isinstance(sim.solver.integrator, PredictorCorrector)
+        self.sim = sim
+        if self.path is not None:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._file = open(self.path, "w", newline="")
+            self._file.write(",".join(["time", *self.columns()]) + "\n")
+            self._file.flush()
+
+    def columns(self) -> list:
+        """The CSV's value columns (after ``time``): one per probe, x/y(/z) per force."""
+        dim = self.sim.dim if self.sim is not None else None
+        return [c for p in self.probes for c in (p.columns(dim) if dim else [p.name])]
+
+    # --- sampling ---------------------------------------------------------------------
+    def sample(self, sim, probes=None):
+        """Take a sample of `probes` (default all) from the state the last step's rates
+        were computed from (see :mod:`taisph.probes`), and write its row."""
+        probes = self.probes if probes is None else probes
+        if self.sim is None:
+            self._bind(sim)
+        time = sim.device_time()
+        if self._time_lags:  # Euler-type integrators: S is the state at the step's start
+            time -= sim.state.read(st.DT)
+        if self._times and time <= self._times[-1]:  # no new state (a guard froze the run)
+            return
+        due = {p.name for p in probes}
+        sampler = self._sampler
+        points = np.zeros(sampler.n_points, bool)
+        groups = np.zeros(sampler.n_groups, bool)
+        for p in self.probes:
+            if p.name in due:
+                if p.kind == "force":
+                    groups[self._slices[p.name]] = True
+                else:
+                    points[self._slices[p.name]] = True
+        phi, pi, forces = sampler.sums(points, groups, time)
+        row, taken = [], []
+        for p in self.probes:
+            taken.append(p.name in due)
+            width = sim.dim if p.kind == "force" else 1
+            if p.name not in due:
+                row += [math.nan] * width
+            elif p.kind == "pressure":
+                part = self._slices[p.name]
+                wet = phi[part] >= self.min_fluid_fraction
+                values = np.where(wet, pi[part] / np.where(wet, phi[part], 1.0), 0.0)  # dry: the air's 0
+                row.append(float(values.mean()) if wet.any() else math.nan)
+            elif p.kind == "elevation":
+                row.append(surface_height(self._line, phi[self._slices[p.name]]))
+            else:
+                row += list(forces[self._slices[p.name]])
+        self._times.append(time)
+        self._rows.append(row)
+        self._taken.append(taken)
+        if self._file is not None:
+            self._write(time, row, taken)
+
+    def _write(self, time, row, taken):
+        cells, k = [repr(float(time))], 0
+        for p, was_taken in zip(self.probes, taken):
+            width = self.sim.dim if p.kind == "force" else 1
+            for v in row[k : k + width]:
+                cells.append(("nan" if math.isnan(v) else f"{v:.10g}") if was_taken else "")
+            k += width
+        self._file.write(",".join(cells) + "\n")  # one write of the whole line, then flush
+        self._file.flush()
+
+    def close(self):
+        """Close the CSV file (rows are flushed as they are written; this only frees it)."""
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+        if self._sampler is not None:
+            self._sampler.free()
+            self._sampler = None
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    # --- results ----------------------------------------------------------------------
+    @property
+    def times(self) -> np.ndarray:
+        """Times of the samples (s): the time of the state each sample read."""
+        return np.asarray(self._times, float)
+
+    @property
+    def values(self) -> dict:
+        """{probe name: samples}, aligned with :attr:`times`; a force probe's are (N, dim)."""
+        table = np.asarray(self._rows, float).reshape(len(self._rows), -1)
+        out, k = {}, 0
+        for p in self.probes:
+            width = self.sim.dim if p.kind == "force" else 1
+            out[p.name] = table[:, k : k + width] if p.kind == "force" else table[:, k]
+            k += width
+        return out
+
+    def series(self, name: str):
+        """(times, values) of the samples probe `name` took (its own ``every``)."""
+        index = [p.name for p in self.probes].index(name)
+        taken = np.asarray(self._taken, bool).reshape(len(self._taken), -1)[:, index]
+        return self.times[taken], self.values[name][taken]
+
+
+def surface_height(heights, phi, fraction: float = ELEVATION_FRACTION) -> float:
+    """The highest height where the fluid fraction `phi` sampled at `heights`
+    (ascending) falls through `fraction` going up, linearly interpolated between
+    samples; the top if phi there is still above it; NaN if phi never reaches it."""
+    wet = np.flatnonzero(phi >= fraction)
+    if len(wet) == 0:
+        return math.nan
+    k = wet[-1]
+    if k == len(phi) - 1:
+        return float(heights[k])
+    return float(heights[k] + (phi[k] - fraction) / (phi[k] - phi[k + 1]) * (heights[k + 1] - heights[k]))
+
+
+def read_csv(path) -> dict:
+    """A probes.csv as {column: float array}; empty cells (not sampled) and ``nan``
+    (no value) are NaN."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    header, body = rows[0], rows[1:]
+    return {name: np.array([float(r[k]) if r[k] else math.nan for r in body]) for k, name in enumerate(header)}

@@ -1,0 +1,122 @@
+"""The 2D dam break of Zhou, De Kat & Buchner (1999) against Buchner's (2002) wall
+pressures: the scene file ``cases/dam_break_probes_2d.toml`` run with its probes.
+
+A column of water H = 0.6 m high and 2H long collapses in a tank 3.22 m long; sensors
+P1 (middle at y = 0.16 m) and P2 (0.584 m) on the right wall record the impact of the
+surge and the run-up. Reference: the experimental curves in
+``references/data/buchner2002_dambreak2d_pressure_P{1,2}.csv`` (sources in their
+headers), in T = t sqrt(g/H) and P = p / (rho0 g H).
+
+The scene file's probes ``P1`` and ``P2`` model the sensors as TrixiParticles.jl's
+validation of this case does (validation/dam_break_2d/setup_marrone_2011.jl): the
+pressure averaged over the sensor's face, 0.09 m tall, with its top at the middle of
+the experimental sensor (P1: y in [0.07, 0.16] m), quoting Adami, Hu & Adams (2012,
+J. Comput. Phys. 231:7057): the numerical probe does not exactly match the
+experiment's position, "but Greco showed that this shift gives better agreement and
+reported several uncertainties in the measurements". ``P1_point`` and ``P2_point``
+are the pressure at the sensors' middles, for comparison (docs/validation.md).
+
+Metrics (:func:`compare`), from the probe's samples (every step):
+
+- ``impact_T``: the first T at which P reaches :data:`IMPACT_LEVEL` = 0.1 (linear
+  interpolation between samples; experiment, P1: 2.479);
+- ``mae``: the mean over the samples with T in [2, 6] of |P - P_exp(T)|, P_exp
+  interpolated linearly between the experimental points (the sensor is dry before
+  the surge: a probe that reads no value counts as P = 0, the pressure of the air).
+
+    >>> from taisph.validation import buchner
+    >>> out = buchner.run(dx=0.01)              # doctest: +SKIP
+    >>> out["P1"]["impact_T"], out["P1"]["mae"]  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+DATA = Path(__file__).resolve().parent / "references" / "data"
+H, G, RHO0 = 0.6, 9.81, 1000.0
+IMPACT_LEVEL = 0.1  # P at which the impact is timed
+WINDOW = (2.0, 6.0)  # T range of the mean absolute error
+SENSORS = ("P1", "P2")
+# the scene file's probes compared, and the sensor each one is compared with
+PROBES = {"P1": "P1", "P2": "P2", "P1_point": "P1", "P2_point": "P2"}
+
+
+def reference(sensor: str = "P1"):
+    """(T, P) of Buchner's measurement at `sensor` ("P1" or "P2")."""
+    path = DATA / f"buchner2002_dambreak2d_pressure_{sensor}.csv"
+    data = np.loadtxt(path, delimiter=",", comments="#", skiprows=1 + sum(
+        1 for line in path.read_text().splitlines() if line.startswith("#")))
+    return data[:, 0], data[:, 1]
+
+
+def scene_file() -> Path:
+    from ..scenefile_build import find_scene_file
+
+    return find_scene_file("dam_break_probes_2d.toml")
+
+
+def impact_time(T, P, level: float = IMPACT_LEVEL) -> float:
+    """The first T at which P reaches `level`, interpolated; NaN if it never does."""
+    T, P = np.asarray(T, float), np.nan_to_num(np.asarray(P, float))
+    above = np.flatnonzero(P >= level)
+    if len(above) == 0:
+        return math.nan
+    k = above[0]
+    if k == 0:
+        return float(T[0])
+    return float(T[k - 1] + (level - P[k - 1]) / (P[k] - P[k - 1]) * (T[k] - T[k - 1]))
+
+
+def compare(T, P, sensor: str = "P1", window=WINDOW) -> dict:
+    """Metrics of a simulated signal (T, P dimensionless; NaN = dry) against `sensor`."""
+    T_ref, P_ref = reference(sensor)
+    T, P = np.asarray(T, float), np.nan_to_num(np.asarray(P, float))
+    inside = (T >= window[0]) & (T <= min(window[1], T_ref[-1]))
+    mae = float(np.mean(np.abs(P[inside] - np.interp(T[inside], T_ref, P_ref)))) if inside.any() else math.nan
+    impact, impact_ref = impact_time(T, P), impact_time(T_ref, P_ref)
+    return dict(impact_T=impact, impact_T_ref=impact_ref, impact_error=impact / impact_ref - 1.0, mae=mae,
+                window=(float(window[0]), float(T[inside][-1]) if inside.any() else math.nan))
+
+
+def run(dx: float = 0.01, t_end: float | None = None, out=None, overrides: dict | None = None, **controls) -> dict:
+    """Run the scene file at `dx` to `t_end` (default: T = 6.1) with its probes, and
+    compare its P1, P2 (and P1_point, P2_point) with the experiment. `overrides`:
+    further scene-file keys (``{"physics.alpha": 0.05}``); `controls`: simulation
+    controls (``max_density_error``, ``courant``...); `out`: a folder for probes.csv.
+    Returns {"P1": metrics, ..., "P1_series": (T, P), ..., "dx", "steps", "wall_s",
+    "fluid", "t_end", "stopped"} ("stopped": the first line of a guard's diagnosis,
+    or "")."""
+    from ..probes import Probes
+    from ..scenefile import load
+    from ..simulation import Simulation, SimulationError
+
+    scale = math.sqrt(G / H)
+    t_end = 6.1 / scale if t_end is None else t_end
+    scene, settings = load(scene_file(), {"dx": dx, "t_end": t_end, **(overrides or {})})
+    if settings.courant is not None:
+        controls.setdefault("courant", settings.courant)
+    sim = Simulation(scene, **controls)
+    path = Path(out) / "probes.csv" if out is not None else None
+    probes = Probes(settings.probes, walls=settings.wall_groups, path=path)
+    stopped = ""
+    start = time.perf_counter()
+    try:
+        sim.run(t_end, frames=1, writers=[probes])
+    except SimulationError as err:
+        stopped = str(err).splitlines()[0]
+    wall = time.perf_counter() - start
+    result = dict(dx=dx, steps=sim.steps, wall_s=wall, fluid=scene.n_fluid, t_end=sim.time, stopped=stopped)
+    for name, sensor in PROBES.items():
+        if name in {p.name for p in settings.probes}:
+            T, p = probes.series(name)
+            T, P = T * scale, p / (RHO0 * G * H)
+            result[name] = compare(T, P, sensor)
+            result[f"{name}_series"] = (T, P)
+    probes.close()
+    sim.close()
+    return result

@@ -1,0 +1,131 @@
+"""Plot a run's probes (OUT/probes.csv) against time: one panel per probe kind.
+
+    python tools/plot_probes.py OUT                     # OUT/probes.png
+    python tools/plot_probes.py OUT --buchner           # P1/P2 over Buchner's (2002) measurements
+    python tools/plot_probes.py OUT -o fig.png --only P1,P2
+
+Pressures are in Pa, elevations in m, forces in N (one line per component), against
+t in s. With --buchner (the 2D dam break of cases/dam_break_probes_2d.toml) pressure
+probes named P1 and P2 are drawn as p / (rho0 g H) against t sqrt(g/H), H = 0.6 m,
+over the experiment (taisph/validation/references/data/buchner2002_*), with the impact
+time and mean absolute error of taisph.validation.buchner in the legend. A probe that
+read no value (dry) is a gap in its line. Needs matplotlib (pip install ".[plot]").
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from taisph.probes import read_csv
+
+
+def kinds(columns):
+    """Group CSV columns by what they measure: forces (name_x, name_y(, name_z)) by
+    name; the rest by unit as the header cannot tell pressure from elevation: a column
+    whose values stay below 100 is taken for an elevation (m)."""
+    forces, scalars = {}, []
+    names = list(columns)
+    for c in names:
+        base, _, axis = c.rpartition("_")
+        if axis in ("x", "y", "z") and f"{base}_x" in names and f"{base}_y" in names:
+            forces.setdefault(base, []).append(c)
+        else:
+            scalars.append(c)
+    return forces, scalars
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
+    parser.add_argument("out", type=Path, help="a run's output folder (with probes.csv), or the CSV itself")
+    parser.add_argument("-o", "--output", type=Path, help="image to write (default: OUT/probes.png)")
+    parser.add_argument("--buchner", action="store_true", help="P1, P2 over Buchner's 2002 dam-break pressures")
+    parser.add_argument("--only", help="comma-separated probe names to plot")
+    args = parser.parse_args(argv)
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("plot_probes: needs matplotlib (pip install '.[plot]')", file=sys.stderr)
+        return 2
+    csv_path = args.out if args.out.suffix == ".csv" else args.out / "probes.csv"
+    if not csv_path.is_file():
+        print(f"plot_probes: {csv_path}: no such file (run a scene file with [[probes]])", file=sys.stderr)
+        return 2
+    data = read_csv(csv_path)
+    t = data.pop("time")
+    if args.only:
+        wanted = set(args.only.split(","))
+        data = {k: v for k, v in data.items() if k in wanted or k.rpartition("_")[0] in wanted}
+        if not data:
+            print(f"plot_probes: none of {args.only} in {csv_path} (columns: {', '.join(read_csv(csv_path))})",
+                  file=sys.stderr)
+            return 2
+    forces, scalars = kinds(data)
+    if args.buchner:
+        from taisph.validation.buchner import PROBES
+
+        panels = [("buchner", [c for c in scalars if c in PROBES])]
+        scalars = [c for c in scalars if c not in PROBES]
+    else:
+        panels = []
+    metres = [c for c in scalars if np.nanmax(np.abs(data[c]), initial=0.0) < 100.0]
+    pascals = [c for c in scalars if c not in metres]
+    panels += [("pressure", pascals), ("elevation", metres)] + [("force", [name]) for name in forces]
+    panels = [(kind, cols) for kind, cols in panels if cols]
+    heights = [4.0 if kind == "buchner" else 2.8 for kind, _ in panels]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9, sum(heights)), squeeze=False,
+                             gridspec_kw={"height_ratios": heights})
+    for ax, (kind, cols) in zip(axes[:, 0], panels):
+        if kind == "buchner":
+            _buchner(ax, t, data, cols)
+            continue
+        for c in cols:
+            for column in forces.get(c, [c]):
+                taken = ~np.isnan(data[column]) | (kind == "pressure")  # keep gaps where a point is dry
+                ax.plot(t[taken], data[column][taken], lw=0.8, label=column)
+        ax.set_ylabel({"pressure": "p (Pa)", "elevation": "surface (m)", "force": "force (N)"}[kind])
+        ax.set_xlabel("t (s)")
+        ax.legend(fontsize=8, loc="best")
+        ax.grid(alpha=0.3)
+    fig.suptitle(str(csv_path), fontsize=9)
+    fig.tight_layout()
+    image = args.output or csv_path.with_suffix(".png")
+    fig.savefig(image, dpi=110)
+    print(f"wrote {image}")
+    return 0
+
+
+def _buchner(ax, t, data, cols):
+    """P1, P2 (and P1_point, P2_point) over the experiment, with their metrics; the
+    impact time only for P1's (P2 stays dry until the run-up: no impact to time)."""
+    from taisph.validation import buchner
+
+    scale = np.sqrt(buchner.G / buchner.H)
+    for c in cols:
+        sensor = buchner.PROBES[c]
+        T, P = t * scale, data[c] / (buchner.RHO0 * buchner.G * buchner.H)
+        m = buchner.compare(T, P, sensor)
+        impact = f"impact T = {m['impact_T']:.3f} ({100 * m['impact_error']:+.1f} %), " if sensor == "P1" else ""
+        ax.plot(T, P, lw=0.7 if c == sensor else 0.5, alpha=1.0 if c == sensor else 0.6,
+                label=f"{c} taisph: {impact}MAE = {m['mae']:.3f}")
+        print(f"{c}: {impact}MAE over T in [{m['window'][0]:g}, {m['window'][1]:.2f}] = {m['mae']:.4f} rho g H")
+    for sensor in sorted({buchner.PROBES[c] for c in cols}):
+        T_ref, P_ref = buchner.reference(sensor)
+        impact = f": impact T = {buchner.impact_time(T_ref, P_ref):.3f}" if sensor == "P1" else ""
+        ax.plot(T_ref, P_ref, "ko-" if sensor == "P1" else "k^-", ms=2.5, lw=1,
+                label=f"{sensor} Buchner (2002){impact}")
+    ax.axvspan(*buchner.WINDOW, color="0.93", zorder=0)
+    ax.set_xlabel("t sqrt(g/H)")
+    ax.set_ylabel("p / (rho g H)")
+    ax.set_xlim(1.5, 7.5)
+    ax.legend(fontsize=6.5, loc="lower right", framealpha=0.8)
+    ax.grid(alpha=0.3)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
