@@ -39,7 +39,8 @@ Both solves are Jacobi iterations: each iteration computes a(k) for every partic
 
        k_i <- max(0, k_i + omega r_i / (dt^n D_i)),     n = 1 (divergence), 2 (density),
 
-omega = 0.5 in 2D, 0.3 in 3D (a projected Jacobi iteration: pressures may fall, never below zero), r_i
+omega = min(0.5, 2.3 / sqrt(neighbours)) (:func:`relaxation`: 0.5 in 2D, 0.27 in
+3D with h = 1.3 dx; a projected Jacobi iteration: pressures may fall, never below zero), r_i
 the predicted density rate (divergence) or the predicted density minus the rest
 density (the lattice's, :func:`lattice_ratio`; a particle short of it, as at a free
 surface, must keep its density instead); an iteration is one kernel launch, and the
@@ -90,7 +91,7 @@ DEFAULTS = dict(
     dfsph_wall_mirror=2.0,  # phi: the wall's pressure term is phi k_i (2: p_wall = p_i in the symmetric form)
     dfsph_wall_head=1.0,  # 1: the hydrostatic head of mirrored walls (above); 0: none
     dfsph_min_neighbours=-1.0,  # < 0: 7 in 2D, 20 in 3D (SPlisHSPlasH's), 3 in 1D
-    dfsph_relaxation=-1.0,  # omega of the Jacobi update; < 0: RELAXATION of the dimension
+    dfsph_relaxation=-1.0,  # omega of the Jacobi update; < 0: relaxation(scene)
     dfsph_increase_only=0.0,  # 1: a solve only raises pressures (SPlisHSPlasH's min(residual, 0))
     dfsph_surface_hold=1.0,  # 1: a particle short of rho0 (free surface) must not be compressed either
     dfsph_rest_ratio=-1.0,
@@ -100,9 +101,20 @@ DEFAULTS = dict(
 PARAMS = tuple((name, 1) for name in DEFAULTS)
 Extra = collections.namedtuple("Extra", "pairs part result")  # a field set's DFSPH fields (Solver.extra_fields)
 MIN_NEIGHBOURS = {1: 3, 2: 7, 3: 20}
-# omega: 2D 0.5 (0.6 and 0.7 diverged on the dam break); 3D 0.3 (0.5 diverged in the first
-# step of the 3D dam break, dx = 0.1: more neighbours, a weaker diagonal)
-RELAXATION = {1: 0.5, 2: 0.5, 3: 0.3}
+
+
+def relaxation(scene) -> float:
+    """omega of the Jacobi updates: min(0.5, 2.3 / sqrt(N)), N the lattice particles in
+    a kernel support (a ball of it over dx^dim). More neighbours weaken the diagonal the
+    update divides by. Measured: 2D, h = 1.3 dx (N = 21): 0.5 converges, 0.6 and 0.7
+    diverged on the dam break; 3D, h = 1.3 dx (N = 74): 0.5 diverged in the first step,
+    0.3 and 0.2 converge (formula: 0.27); 2D, h = 2 dx (N = 50, the probes scene file):
+    0.5 diverged, 0.32 (the formula) and 0.25 converge."""
+    import math
+
+    support = scene.support_radius
+    ball = {1: 2.0 * support, 2: math.pi * support**2, 3: 4.0 / 3.0 * math.pi * support**3}[scene.dim]
+    return min(0.5, 2.3 / math.sqrt(ball / scene.dx**scene.dim))
 
 
 def kept_terms(scene) -> list:
@@ -210,7 +222,7 @@ def parameter_values(scene, controls) -> dict:
     if values["dfsph_min_neighbours"] < 0:
         values["dfsph_min_neighbours"] = MIN_NEIGHBOURS[scene.dim]
     if values["dfsph_relaxation"] < 0:
-        values["dfsph_relaxation"] = RELAXATION[scene.dim]
+        values["dfsph_relaxation"] = relaxation(scene)
     if values["dfsph_rest_ratio"] < 0:
         values["dfsph_rest_ratio"] = lattice_ratio(scene)
     if values["dfsph_nu_art"] < 0:
