@@ -1,0 +1,401 @@
+"""The kernel bodies of a DFSPH step (:mod:`.dfsph` has the method, its equations and
+the host side that iterates the solves): step 1's neighbour visitor (density, the
+factor alpha, D rho/Dt and the pair list), the non-pressure pass over the pair list,
+and :class:`Bodies`, the kernels of one field set.
+"""
+
+import taichi as ti
+
+from . import kernels, pairs
+from . import status as st
+from .layout import FLUID, WALL
+from .dfsph import CHUNKS
+
+
+@ti.data_oriented
+class _DensityVisitor:
+    """Step 1's neighbour visitor: density, the factor's sums, D rho/Dt, the pair list."""
+
+    def __init__(self, solver, plist):
+        self.q = solver.layout.q
+        self.kern = solver.kernel
+        self.plist = plist
+        self.wall_velocity = "wall_velocity" in solver.layout.vectors
+        self.p_inv_h = solver.param_rows["inv_h"]
+        self.p_w_norm = solver.param_rows["w_norm"]
+        self.p_grad_norm = solver.param_rows["grad_norm"]
+
+    @ti.func
+    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
+        q = ti.static(self.q)
+        kind = s.Si[q.kind, j]
+        if kind == FLUID or kind == WALL:
+            x = ti.sqrt(r2) * s.params[self.p_inv_h]
+            mj = s.Ss[q.mass, j]
+            coef = mj * s.params[self.p_grad_norm] * self.kern.g(x)
+            g = coef * rij
+            f = self.kern.f(x)
+            acc.rho += mj * s.params[self.p_w_norm] * f
+            vi = s.Sv[q.velocity, i]
+            acc.div += (vi - s.Sv[q.velocity, j]).dot(g)
+            if kind == FLUID:
+                acc.gf += g
+                acc.g2 += g.dot(g)
+            else:
+                acc.gb += g
+                if ti.static(self.wall_velocity):  # the wall's no-slip velocity: sum_f W v_f, sum_f W
+                    ti.atomic_add(s.Ss[q.wall_weight, j], f)
+                    ti.atomic_add(s.Sv[q.wall_velocity, j], f * vi)
+            self.plist.store(s, i, acc.k, j, coef)
+            acc.k += 1
+
+
+@ti.data_oriented
+class _NonPressure:
+    """Step 3's visitor of the pair list: the scene's pair terms (as the weakly
+    compressible force pass sums them) and the walls' hydrostatic head."""
+
+    def __init__(self, solver):
+        self.q = solver.layout.q
+        self.terms = [t for t in solver.terms if t.has_pair]
+        self.p_gravity = solver.param_rows.get("gravity")
+        self.head = self.p_gravity is not None
+        self.p_head = solver.param_rows["dfsph_wall_head"]
+
+    @ti.func
+    def visit(self, s: ti.template(), i, j, rij, r2, coef, rates: ti.template()):
+        """Pair (i, j) of the list, with coef = m_j F(r_ij) (grad_i W_ij = F r_ij): the
+        gradient needs no kernel evaluation (it cost the non-pressure pass 30 %)."""
+        r = ti.sqrt(r2)
+        grad = (coef / s.Ss[self.q.mass, j]) * rij
+        for t in ti.static(self.terms):
+            ti.static(kernels._traced(t.name, "pair"))
+            t.pair(s, i, j, rij, r, grad, rates)
+        if ti.static(self.head):
+            if s.Si[self.q.kind, j] == WALL and s.params[self.p_head] > 0.0:
+                # p_wall - p_i = rho_i g . (x_wall - x_i): a_i -= m_b (that / rho_i^2) grad W
+                g = ti.Vector([s.params[self.p_gravity + d] for d in ti.static(range(rij.n))])
+                rates.acc += (coef * g.dot(rij) / s.Ss[self.q.density, i]) * rij
+
+
+class Bodies:
+    """The kernel bodies of a DFSPH step on one field set (its pair list bound)."""
+
+    def __init__(self, solver, extra):
+        self.solver = solver
+        self.x = extra
+        self.q = q = solver.layout.q
+        self.dim, self.real = solver.dim, solver.real
+        self.grid = solver.grid
+        self.plist = pairs.PairList(extra.pairs, solver.grid, q.position)
+        self.local = kernels._local_parameters(solver)
+        self.p = solver.param_rows
+        self.has_shift = solver.has_shift
+        self.wall_velocity = "wall_velocity" in solver.layout.vectors
+        self.gravity_row = solver.param_rows.get("gravity")
+
+    # --- step 1 --------------------------------------------------------------------
+    def density(self):
+        q, grid, plist, x = self.q, self.grid, self.plist, self.x
+        dim, real = self.dim, self.real
+        vec = ti.types.vector(dim, real)
+        Acc = ti.types.struct(rho=real, div=real, g2=real, gf=vec, gb=vec, k=ti.i32)
+        visitor = _DensityVisitor(self.solver, plist)
+        kern = self.solver.kernel
+        p = self.p
+        local = self.local
+
+        wall_velocity = self.wall_velocity
+        rho0_col = self.solver.eos.m.rho0
+
+        @ti.func
+        def body(s_mem: ti.template(), t_target):
+            ti.static(kernels._traced("dfsph", "density"))
+            if ti.static(wall_velocity):
+                for i in range(s_mem.sizes[4]):
+                    if s_mem.Si[q.kind, i] != FLUID:
+                        s_mem.Ss[q.wall_weight, i] = 0.0
+                        s_mem.Sv[q.wall_velocity, i] = ti.Vector.zero(real, dim)
+            for i in range(s_mem.sizes[4]):
+                kind = s_mem.Si[q.kind, i]
+                if kind == FLUID:
+                    s = ti.static(s_mem._replace(params=local(s_mem)))
+                    mi = s.Ss[q.mass, i]
+                    acc = Acc(rho=mi * s.params[p["w_norm"]] * kern.f(0.0), div=0.0, g2=0.0,
+                              gf=ti.Vector.zero(real, dim), gb=ti.Vector.zero(real, dim), k=0)
+                    grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p["support2"]], visitor, acc)
+                    if not plist.close(s, i, acc.k):
+                        _trip(s, q, i, st.CROWDED)
+                    s.Ss[q.density, i] = acc.rho
+                    phi = s.params[p["dfsph_wall_mirror"]]
+                    gsum = acc.gf + phi * acc.gb
+                    denominator = gsum.dot(acc.gf + acc.gb) + acc.g2
+                    s.Ss[q.alpha, i] = 1.0 / denominator if denominator > 0.0 else 0.0
+                    s.Sv[q.gsum, i] = gsum
+                    s.Ss[q.source, i] = acc.div
+                    if acc.div > 0.0 or s.params[p["dfsph_increase_only"]] == 0.0:
+                        s.Ss[q.kappa_v, i] *= s.params[p["dfsph_warm_start"]]
+                    else:
+                        s.Ss[q.kappa_v, i] = 0.0
+                else:  # walls (and removed particles): no pressure, no acceleration, their own velocity
+                    s_mem.Ss[q.kappa, i] = 0.0
+                    s_mem.Ss[q.kappa_v, i] = 0.0
+                    s_mem.Sv[q.acc_p, i] = ti.Vector.zero(real, dim)
+                    s_mem.Sv[q.vstar, i] = s_mem.Sv[q.velocity, i]
+                    x.pairs.count[i] = 0
+            # the divergence error before any iteration (result[1]): within the tolerance, the
+            # divergence solve has nothing to do (the host skips it, and ``middle`` with it)
+            for c in range(CHUNKS):
+                dt = ti.cast(s_mem.status[st.DT], real)
+                n = s_mem.sizes[4]
+                size = (n + CHUNKS - 1) // CHUNKS
+                error = ti.cast(0.0, ti.f64)
+                count = 0
+                for i in range(c * size, ti.min(c * size + size, n)):
+                    if s_mem.Si[q.kind, i] == FLUID:
+                        if x.pairs.count[i] >= s_mem.params[p["dfsph_min_neighbours"]]:
+                            rho0 = s_mem.mat[s_mem.Si[q.material, i], rho0_col]
+                            error += ti.cast(ti.max(s_mem.Ss[q.source, i], 0.0) * dt / rho0, ti.f64)
+                        count += 1
+                x.part[c, 0] = error
+                x.part[c, 1] = ti.cast(count, ti.f64)
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                total = ti.cast(0.0, ti.f64)
+                fluid = ti.cast(0.0, ti.f64)
+                for c in range(CHUNKS):
+                    total += x.part[c, 0]
+                    fluid += x.part[c, 1]
+                x.result[1] = total / ti.max(fluid, 1.0)
+
+        return body
+
+    # --- the pressure acceleration and one Jacobi iteration ----------------------------
+    def _acceleration(self):
+        """ti.func(s, i, row) -> a_i(k) of the pressures in scalar row `row`."""
+        q, plist, grid = self.q, self.plist, self.grid
+        f = self.x.pairs
+
+        @ti.func
+        def acceleration(s: ti.template(), i, row: ti.template()):
+            xi = s.Sv[q.position, i]
+            a = -s.Ss[row, i] * s.Sv[q.gsum, i]
+            for k in range(f.count[i]):
+                j = f.nbr[i, k]
+                a -= (f.coef[i, k] * s.Ss[row, j]) * grid.separation(s, xi, s.Sv[q.position, j])
+            return a
+
+        return acceleration
+
+    def iteration(self, density: bool):
+        """One Jacobi iteration of the divergence (density False) or constant-density
+        solve: a(k) of every fluid particle, then the residuals, the updates and the
+        mean error into ``result[0]``."""
+        q, grid, x, real = self.q, self.grid, self.x, self.real
+        f = x.pairs
+        p = self.p
+        local = self.local
+        acceleration = self._acceleration()
+        row = q.kappa if density else q.kappa_v
+        rho0_col = self.solver.eos.m.rho0
+
+        @ti.func
+        def body(s_mem: ti.template(), t_target):
+            ti.static(kernels._traced("dfsph", "density solve" if density else "divergence solve"))
+            for i in range(s_mem.sizes[4]):
+                if s_mem.Si[q.kind, i] == FLUID:
+                    s_mem.Sv[q.acc_p, i] = acceleration(s_mem, i, row)
+            for c in range(CHUNKS):
+                s = ti.static(s_mem._replace(params=local(s_mem)))
+                dt = ti.cast(s.status[st.DT], real)
+                scale = dt * dt if ti.static(density) else dt
+                n = s.sizes[4]
+                size = (n + CHUNKS - 1) // CHUNKS
+                error = ti.cast(0.0, ti.f64)
+                count = 0
+                for i in range(c * size, ti.min(c * size + size, n)):
+                    if s.Si[q.kind, i] == FLUID:
+                        xi = s.Sv[q.position, i]
+                        ai = s.Sv[q.acc_p, i]
+                        change = ti.cast(0.0, real)
+                        for k in range(f.count[i]):
+                            j = f.nbr[i, k]
+                            change += f.coef[i, k] * (ai - s.Sv[q.acc_p, j]).dot(
+                                grid.separation(s, xi, s.Sv[q.position, j]))
+                        residual = s.Ss[q.source, i] + scale * change
+                        rho0 = s.mat[s.Si[q.material, i], rho0_col]
+                        if ti.static(not density):
+                            if f.count[i] < s.params[p["dfsph_min_neighbours"]]:
+                                residual = 0.0  # too few neighbours for a divergence (a splash)
+                        # the error: compression, and expansion where the pressure is positive
+                        # (there the density must be rho0 both ways; at zero pressure, as at a
+                        # free surface, a lower density is allowed)
+                        compression = ti.max(residual, 0.0) / rho0
+                        if s.Ss[row, i] > 0.0 and s.params[p["dfsph_increase_only"]] == 0.0:
+                            compression = ti.abs(residual) / rho0
+                        if dt > 0.0:
+                            update = residual
+                            if s.params[p["dfsph_increase_only"]] > 0.0:
+                                update = ti.max(update, 0.0)
+                            s.Ss[row, i] = ti.max(0.0, s.Ss[row, i] + s.params[p["dfsph_relaxation"]] * update
+                                                  * s.Ss[q.alpha, i] / scale)
+                        if ti.static(not density):
+                            compression *= dt
+                        error += ti.cast(compression, ti.f64)
+                        count += 1
+                x.part[c, 0] = error
+                x.part[c, 1] = ti.cast(count, ti.f64)
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                total = ti.cast(0.0, ti.f64)
+                fluid = ti.cast(0.0, ti.f64)
+                for c in range(CHUNKS):
+                    total += x.part[c, 0]
+                    fluid += x.part[c, 1]
+                x.result[0] = total / ti.max(fluid, 1.0)
+
+        return body
+
+    # --- between the solves ---------------------------------------------------------------
+    def middle(self):
+        """v += dt a(kv) (the divergence solve's result); the walls' no-slip velocity;
+        the non-pressure forces and v*; the predicted density rho* (the
+        constant-density solve's source) and its warm start."""
+        solver = self.solver
+        q, grid, plist, x = self.q, self.grid, self.plist, self.x
+        f = x.pairs
+        dim, real = self.dim, self.real
+        p = self.p
+        local = self.local
+        acceleration = self._acceleration()
+        visitor = _NonPressure(solver)
+        body_terms = [t for t in solver.terms if t.has_body]
+        Rates = solver.Rates
+        rho0_col = solver.eos.m.rho0
+        wall_velocity, has_shift = self.wall_velocity, self.has_shift
+
+        @ti.func
+        def body(s_mem: ti.template(), t_target):
+            dt = ti.cast(s_mem.status[st.DT], real)
+            skipped = x.result[1] <= s_mem.params[p["dfsph_divergence_tolerance"]]  # no divergence solve
+            for i in range(s_mem.sizes[4]):
+                if s_mem.Si[q.kind, i] == FLUID:
+                    if skipped:
+                        s_mem.Ss[q.kappa_v, i] = 0.0
+                    else:
+                        s_mem.Sv[q.velocity, i] += dt * acceleration(s_mem, i, q.kappa_v)
+            if ti.static(wall_velocity):
+                # no-slip velocity of the walls (Adami et al. 2012 eq. 22-23), from the sums
+                # the fluid scattered in step 1: v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf
+                for i in range(s_mem.sizes[4]):
+                    if s_mem.Si[q.kind, i] == WALL:
+                        ghost = s_mem.Sv[q.velocity, i]
+                        weight = s_mem.Ss[q.wall_weight, i]
+                        if weight > 0.0:
+                            ghost = 2.0 * ghost - s_mem.Sv[q.wall_velocity, i] / weight
+                        s_mem.Sv[q.wall_velocity, i] = ghost
+            for i in range(s_mem.sizes[4]):
+                if s_mem.Si[q.kind, i] == FLUID:
+                    s = ti.static(s_mem._replace(params=local(s_mem)))
+                    rates = Rates(acc=ti.Vector.zero(real, dim))
+                    for t in ti.static(body_terms):
+                        ti.static(kernels._traced(t.name, "body"))
+                        t.body(s, i, rates)
+                    # the force limit of dt follows the body forces (gravity): the viscous
+                    # terms have their own limit, 0.125 h^2 / nu (timestep.py)
+                    acc2 = ti.cast(rates.acc.norm_sqr(), ti.f64)
+                    if acc2 > s.status[st.MAX_ACC2]:
+                        ti.atomic_max(s.status[st.MAX_ACC2], acc2)
+                    xi = s.Sv[q.position, i]
+                    plist.for_each(s, i, xi, visitor, rates)
+                    s.Sv[q.vstar, i] = s.Sv[q.velocity, i] + dt * rates.acc
+                    if ti.static(has_shift):
+                        s.Sv[q.shift, i] = rates.shift
+            for i in range(s_mem.sizes[4]):
+                if s_mem.Si[q.kind, i] == FLUID:
+                    s = ti.static(s_mem._replace(params=local(s_mem)))
+                    xi = s.Sv[q.position, i]
+                    vi = s.Sv[q.vstar, i]
+                    change = ti.cast(0.0, real)
+                    for k in range(f.count[i]):
+                        j = f.nbr[i, k]
+                        change += f.coef[i, k] * (vi - s.Sv[q.vstar, j]).dot(grid.separation(s, xi, s.Sv[q.position, j]))
+                    # the density error the solve removes: the predicted change and the
+                    # compression beyond the rest density (a particle short of rho0, as at a free
+                    # surface, keeps its density: it must not be compressed either)
+                    rest = s.mat[s.Si[q.material, i], rho0_col] * s.params[p["dfsph_rest_ratio"]]
+                    excess = s.Ss[q.density, i] - rest
+                    if s.params[p["dfsph_surface_hold"]] > 0.0:
+                        excess = ti.max(excess, 0.0)
+                    source = excess + dt * change
+                    s.Ss[q.source, i] = source
+                    # warm start; pressures that only rise (SPlisHSPlasH's rule) start only where
+                    # the particle is being compressed: a free surface's would push it out
+                    if source > 0.0 or s.params[p["dfsph_increase_only"]] == 0.0:
+                        s.Ss[q.kappa, i] *= s.params[p["dfsph_warm_start"]]
+                    else:
+                        s.Ss[q.kappa, i] = 0.0
+
+        return body
+
+    # --- step 5 ------------------------------------------------------------------------
+    def final(self):
+        """v = v* + dt a(k), x += dt v; the state back to C; pressure; maxima; guards."""
+        solver = self.solver
+        layout = solver.layout
+        q = self.q
+        carried_v, carried_s, carried_i = layout.carried
+        dim, real = self.dim, self.real
+        integ, guards = solver.integrator, solver.guards
+        acceleration = self._acceleration()
+        Rates = solver.Rates
+        has_shift = self.has_shift
+        local = self.local
+
+        @ti.func
+        def body(s_mem: ti.template(), t_target):
+            dt = ti.cast(s_mem.status[st.DT], real)
+            for i in range(s_mem.sizes[4]):
+                s = ti.static(s_mem._replace(params=local(s_mem)))
+                for k in ti.static(carried_v):
+                    s.Cv[k, i] = s.Sv[k, i]
+                for k in ti.static(carried_s):
+                    s.Cs[k, i] = s.Ss[k, i]
+                for k in ti.static(carried_i):
+                    s.Ci[k, i] = s.Si[k, i]
+                kind = s.Si[q.kind, i]
+                if kind == FLUID:
+                    a = acceleration(s, i, q.kappa)
+                    v = s.Sv[q.vstar, i] + dt * a
+                    u = v
+                    if ti.static(has_shift):
+                        u += s.Sv[q.shift, i]
+                    s.Cv[q.position, i] = s.Sv[q.position, i] + dt * u
+                    s.Cv[q.velocity, i] = v
+                    rho = s.Ss[q.density, i]
+                    # both solves applied pressure accelerations this step: v += dt a(kv), then
+                    # dt a(k); a is linear in the pressures, so the step's pressure is k + kv
+                    s.Cs[q.pressure, i] = (s.Ss[q.kappa, i] + s.Ss[q.kappa_v, i]) * rho * rho
+                    speed = ti.cast(v.norm(), ti.f64)
+                    if speed > s.status[st.MAX_SIGNAL]:
+                        ti.atomic_max(s.status[st.MAX_SIGNAL], speed)
+                    rates = Rates(acc=a)
+                    guards.check(s, i, rates)
+                elif kind == WALL:
+                    s.Cs[q.pressure, i] = 0.0
+                    integ.advance_wall(s, i, dt)
+
+        return body
+
+
+@ti.func
+def _trip(s: ti.template(), q: ti.template(), i, code):
+    """Set a guard flag for particle i (as :meth:`taisph.engine.guards.Guards.check`)."""
+    if s.status[st.FROZEN] == 0.0:
+        ti.atomic_or(s.flags[st.CODES], code)
+        k = ti.atomic_add(s.flags[st.COUNT], 1)
+        if k < st.MAX_RECORDED:
+            s.flags[st.RECORDS + 2 * k] = s.Si[q.id, i]
+            s.flags[st.RECORDS + 2 * k + 1] = code
+
+
