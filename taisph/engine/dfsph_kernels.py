@@ -342,10 +342,9 @@ class Bodies:
     def final(self):
         """v = v* + dt a(k), x += dt v; the state back to C; pressure; maxima; guards."""
         solver = self.solver
-        layout = solver.layout
         q = self.q
-        carried_v, carried_s, carried_i = layout.carried
-        dim, real = self.dim, self.real
+        copy = kernels.copy_rows(solver)
+        real = self.real
         integ, guards = solver.integrator, solver.guards
         acceleration = self._acceleration()
         Rates = solver.Rates
@@ -357,12 +356,7 @@ class Bodies:
             dt = ti.cast(s_mem.status[st.DT], real)
             for i in range(s_mem.sizes[4]):
                 s = ti.static(s_mem._replace(params=local(s_mem)))
-                for k in ti.static(carried_v):
-                    s.Cv[k, i] = s.Sv[k, i]
-                for k in ti.static(carried_s):
-                    s.Cs[k, i] = s.Ss[k, i]
-                for k in ti.static(carried_i):
-                    s.Ci[k, i] = s.Si[k, i]
+                copy(s[3:6], i, s[:3], i)  # S -> C
                 kind = s.Si[q.kind, i]
                 if kind == FLUID:
                     a = acceleration(s, i, q.kappa)

@@ -115,6 +115,23 @@ def _local_parameters(solver):
     return local
 
 
+def copy_rows(solver):
+    """A ti.func(source, i, target, j): the carried rows of particle i of `source` to slot
+    j of `target`, each a (vectors, scalars, integers) triple of fields."""
+    carried_v, carried_s, carried_i = solver.layout.carried
+
+    @ti.func
+    def copy(source: ti.template(), i, target: ti.template(), j):
+        for k in ti.static(carried_v):
+            target[0][k, j] = source[0][k, i]
+        for k in ti.static(carried_s):
+            target[1][k, j] = source[1][k, i]
+        for k in ti.static(carried_i):
+            target[2][k, j] = source[2][k, i]
+
+    return copy
+
+
 def _derive(solver):
     """A ti.func(s, i): the equation of state and the terms' ``derive`` for particle i."""
     eos = solver.eos
@@ -133,9 +150,8 @@ def _derive(solver):
 
 def sort_body(solver, serial: bool):
     """dt, predictor, counting sort, scatter C -> S, equation of state (see above)."""
-    layout = solver.layout
-    q = layout.q
-    carried_v, carried_s, carried_i = layout.carried
+    q = solver.layout.q
+    copy = copy_rows(solver)
     grid, integ, timestep = solver.grid, solver.integrator, solver.timestep
     derive = _derive(solver)
     real = solver.real
@@ -160,12 +176,7 @@ def sort_body(solver, serial: bool):
         ti.loop_config(serialize=serial)
         for i in range(n):
             slot = grid.slot(s, i, rebuild)
-            for k in ti.static(carried_v):
-                s.Sv[k, slot] = s.Cv[k, i]
-            for k in ti.static(carried_s):
-                s.Ss[k, slot] = s.Cs[k, i]
-            for k in ti.static(carried_i):
-                s.Si[k, slot] = s.Ci[k, i]
+            copy(s[:3], i, s[3:6], slot)  # C -> S
             integ.predict(s, i, slot, dt)
             if ti.static(grid.any_periodic):
                 s.Sv[q.position, slot] = grid.wrap(s, s.Sv[q.position, slot])
@@ -203,9 +214,8 @@ def pass_body(solver, neighbour_pass):
 
 def force_body(solver):
     """Rates of every fluid particle, the integrator's update, dt maxima, guards."""
-    layout = solver.layout
-    q = layout.q
-    carried_v, carried_s, carried_i = layout.carried
+    q = solver.layout.q
+    copy = copy_rows(solver)
     real, dim = solver.real, solver.dim
     grid, integ, timestep, guards = solver.grid, solver.integrator, solver.timestep, solver.guards
     visitor = _ForceSum(solver, [t for t in solver.terms if t.has_pair])
@@ -219,12 +229,7 @@ def force_body(solver):
         dt = ti.cast(s_mem.status[st.DT], real)
         for i in range(s_mem.sizes[4]):
             s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
-            for k in ti.static(carried_v):
-                s.Cv[k, i] = s.Sv[k, i]
-            for k in ti.static(carried_s):
-                s.Cs[k, i] = s.Ss[k, i]
-            for k in ti.static(carried_i):
-                s.Ci[k, i] = s.Si[k, i]
+            copy(s[3:6], i, s[:3], i)  # S -> C; the integrator then writes what it advances
             if s.Si[q.kind, i] == FLUID:
                 rates = Rates(acc=ti.Vector.zero(real, dim))  # other members zero-initialised
                 for t in ti.static(body_terms):
@@ -244,17 +249,12 @@ def force_body(solver):
 def copy_body(solver, source, target):
     """Copy the carried rows of the particles in use from `source` to `target` buffers
     (each a (vectors, scalars, integers) triple of fields): the last good state."""
-    carried_v, carried_s, carried_i = solver.layout.carried
+    copy = copy_rows(solver)
 
     @ti.func
     def body(s: ti.template(), t_target):
         for i in range(s.sizes[4]):
-            for k in ti.static(carried_v):
-                target[0][k, i] = source[0][k, i]
-            for k in ti.static(carried_s):
-                target[1][k, i] = source[1][k, i]
-            for k in ti.static(carried_i):
-                target[2][k, i] = source[2][k, i]
+            copy(source, i, target, i)
 
     return body
 
