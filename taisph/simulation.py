@@ -15,7 +15,7 @@ import taichi as ti
 from .engine import assembly, runtime, timestep
 from .engine import status as st
 from .engine.layout import FLUID, REMOVED, WALL
-from .engine.diagnosis import SimulationError
+from .engine.diagnosis import SimulationError  # noqa: F401 (taisph.simulation.SimulationError)
 from .engine.state import State
 from .engine.timestep import Controls
 from .io.progress import Progress, RunSummary
@@ -245,9 +245,7 @@ class Simulation:
             writer.on_start(self)
         if self.solver.dfsph:
             self.pressure_solve.begin_window()
-        self.state.write(st.DT_MIN, math.inf)  # run statistics
-        self.state.write(st.DT_MAX, 0.0)
-        dt_sum0 = self.state.read(st.DT_SUM)
+        dt_sum0 = self.state.start_run_statistics()
         steps0, rebuilds0 = self.steps, self.list_rebuilds
         start = _time.perf_counter()
         with Progress(t0, t_end, enabled=progress) as bar:
@@ -262,9 +260,7 @@ class Simulation:
         ti.sync()
         wall = _time.perf_counter() - start
         steps = self.steps - steps0
-        read = self.state.read
-        dt_min, dt_mean, dt_max = ((read(st.DT_MIN), (read(st.DT_SUM) - dt_sum0) / steps, read(st.DT_MAX))
-                                   if steps else (float("nan"),) * 3)
+        dt_min, dt_mean, dt_max = self.state.run_statistics(dt_sum0, steps)
         kinds, masses = self.kinds(), self.masses()
         return RunSummary(self.n, self.n_fluid, steps, self.time, wall,
                           frame_writer.frame - frames0 if frame_writer else 0,
@@ -291,17 +287,7 @@ class Simulation:
     def _fail(self):
         from .engine import diagnosis
 
-        report = diagnosis.collect(self)
-        files = []
-        folder = getattr(self, "_out", None)
-        if folder is None:  # no output folder chosen: do not litter the working directory
-            import tempfile
-            folder = Path(tempfile.mkdtemp(prefix=f"taisph-{self.scene.name}-"))
-        try:
-            files = diagnosis.write_evidence(self, report, folder)
-        finally:
-            message = diagnosis.explain(self, report, files)
-        raise SimulationError(message, report, files)
+        diagnosis.fail(self, getattr(self, "_out", None))
 
     def save_checkpoint(self, folder, t_end=None, frames_left=None, writer=None) -> Path:
         """Write the complete state to `folder`, atomically (:mod:`taisph.io.checkpoint`);

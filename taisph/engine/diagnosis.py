@@ -28,6 +28,21 @@ class SimulationError(RuntimeError):
         self.files = list(files)
 
 
+def fail(sim, folder=None):
+    """Collect, write the evidence (to `folder`, or a new temporary folder: a run with
+    no output folder does not litter the working directory) and raise SimulationError."""
+    import tempfile
+
+    report = collect(sim)
+    files = []
+    folder = Path(tempfile.mkdtemp(prefix=f"taisph-{sim.scene.name}-")) if folder is None else folder
+    try:
+        files = write_evidence(sim, report, folder)
+    finally:
+        message = explain(sim, report, files)
+    raise SimulationError(message, report, files)
+
+
 def collect(sim) -> dict:
     state = sim.state
     flags = state.flags.to_numpy()

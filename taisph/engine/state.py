@@ -171,6 +171,18 @@ class State:
     def read_flag(self, index: int) -> int:
         return self.flags[index]
 
+    def start_run_statistics(self) -> float:
+        """Reset the smallest and largest dt taken; returns the dt sum so far."""
+        self.write(st.DT_MIN, float("inf"))
+        self.write(st.DT_MAX, 0.0)
+        return self.read(st.DT_SUM)
+
+    def run_statistics(self, dt_sum0: float, steps: int):
+        """(smallest, mean, largest) dt since start_run_statistics returned `dt_sum0`."""
+        if not steps:
+            return (float("nan"),) * 3
+        return self.read(st.DT_MIN), (self.read(st.DT_SUM) - dt_sum0) / steps, self.read(st.DT_MAX)
+
     # --- download -------------------------------------------------------------------
     def memory_order(self, good: bool = False):
         """(vectors, scalars, integers) of C (or of the last good copy) as numpy, in
