@@ -3,7 +3,6 @@ solver against physics, its failures, and its place in the command line and scen
 files. The long validations (dx as in the issue) are marked slow; docs/dfsph.md
 gives their measured values."""
 
-import math
 
 import numpy as np
 import pytest

@@ -5,7 +5,6 @@ sum_j V_j (x_j - x_i) (x) grad_i W_ij = I (first-order consistency of the gradie
 Monaghan 2005 sec. 2.3); grad W is the derivative of W.
 """
 
-import itertools
 
 import numpy as np
 import pytest

@@ -1,7 +1,6 @@
 """Hard cases stay numerically stable: adaptive time step, guards, restarts, and a
 suite of violent, long and degenerate scenes asserting invariants."""
 
-import math
 import warnings
 
 import meshio
@@ -17,7 +16,6 @@ from taisph.io import vtk
 from taisph.geometry import box_walls, lattice
 from taisph.simulation import SimulationError
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
-from taisph.eos import tait
 
 G = 9.81
 

@@ -12,7 +12,6 @@ and the cost of building the lists. Prints the best of 5 blocks of 100 calls.
 docs/performance.md compares these with the same levers inside taisph.
 """
 import sys
-import time
 
 import taichi as ti
 

@@ -5,7 +5,7 @@
 e.g. `python tools/drop_impact.py 0.01 15 0.1` (c0 = 15 x 15 m/s, delta-SPH 0.1): runs to
 0.1 s with 20 frames and prints the guard result, max density error and lowest y.
 """
-import math, sys, numpy as np, taisph
+import sys, numpy as np, taisph
 from taisph.geometry import lattice, wall_layers
 from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, Gravity, PressureGradient, DensityDiffusion
 from taisph.simulation import SimulationError

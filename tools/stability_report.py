@@ -8,7 +8,6 @@ assert (finite state, wall penetration, density error, mass, energy).
 """
 
 import argparse
-import math
 import time
 
 import numpy as np

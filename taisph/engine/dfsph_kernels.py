@@ -173,7 +173,7 @@ class Bodies:
     # --- the pressure acceleration and one Jacobi iteration ----------------------------
     def _acceleration(self):
         """ti.func(s, i, row) -> a_i(k) of the pressures in scalar row `row`."""
-        q, plist, grid = self.q, self.plist, self.grid
+        q, grid = self.q, self.grid
         f = self.x.pairs
 
         @ti.func

@@ -1,3 +1,0 @@
-
-b = particle_arrays['fluid']
-b.scalar = 'vmag'
