@@ -116,7 +116,7 @@ def test_elliptical_drop_semi_axis():
 # --- dam break --------------------------------------------------------------------------------------------
 def test_dam_break_front_and_column_height():
     """dx = 0.05, T <= 3.1. The case's defaults (dummy walls with friction, delta-SPH,
-    Courant 0.4) and the seed's physics (Lennard-Jones walls): mean |Z - Z_KO| <= 0.10
+    Courant 0.3) and the seed's physics (Lennard-Jones walls): mean |Z - Z_KO| <= 0.10
     (measured 0.071 and 0.052). Dummy walls with free slip and no density diffusion:
     column height within 0.03 of Martin & Moyce (measured 0.007), but the front runs
     ahead of the experiments (signed mean > 0, measured 0.19): see docs/accuracy.md."""
