@@ -235,9 +235,13 @@ class Solver:
         (DFSPH: one callable, :class:`taisph.engine.dfsph.Stepper`, which iterates its solves)."""
         if self.dfsph:
             return fields.kernel(("dfsph", serial_sort), lambda args: (dfsph.Stepper(self, fields, serial_sort),))
-        bodies = [kernels.sort_body(self, serial_sort), *[kernels.pass_body(self, p) for p in self.passes],
-                  kernels.force_body(self)]
-        return fields.kernel(("step", serial_sort), lambda args: tuple(self.make_kernel(b)(args) for b in bodies))
+
+        def build(args):  # only on the first call for these fields: the step's hot path is the cache lookup
+            bodies = [kernels.sort_body(self, serial_sort), *[kernels.pass_body(self, p) for p in self.passes],
+                      kernels.force_body(self)]
+            return tuple(self.make_kernel(b)(args) for b in bodies)
+
+        return fields.kernel(("step", serial_sort), build)
 
     def pressure_kernel(self, fields, good: bool = False):
         """Fills the pressure row (and derived rows) of the current state, or of the
