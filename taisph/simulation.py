@@ -268,7 +268,8 @@ class Simulation:
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
                           float(masses[kinds == FLUID].sum()), float(masses[kinds == REMOVED].sum()),
-                          self.pressure_solve.stats.summary() if self.solver.dfsph else None)
+                          self.pressure_solve.stats.summary() if self.solver.dfsph else None,
+                          self.state.read_flag(st.SPRAY_COUNT))
 
     @property
     def pressure_solve(self):

@@ -15,6 +15,17 @@ tripped, even if the host only looks a few steps later), and the host stops and
 explains (:mod:`taisph.engine.diagnosis`). With ``remove_escaped`` (a control, or the
 scene's default) a particle leaving the guard box is instead turned into an inactive particle (kind ``removed``: no
 forces, not written), and counted.
+
+Spray: beyond an open face of the walls (above the top of an open tank: the walls'
+largest coordinate along that face's axis) water flies free. A splash there may break
+into clusters of a few particles that weakly compressible SPH cannot represent: their
+density falls as a jet stretches, the tension of the equation of state pulls them
+together at tens of m/s, and their collisions compress them beyond the guard's range
+(the flagship dam break at dx = 0.005 did so 0.5 m above its tank at t = 2.17 s; see
+docs/stability.md). With ``remove_escaped``, a fluid particle out there whose only
+failure is its density error is removed and counted as spray, as DualSPHysics removes
+particles whose density leaves its range (``RhopOutMin``/``RhopOutMax``); inside the
+tank the density guard stops the run as before.
 """
 
 import collections
@@ -23,13 +34,15 @@ import numpy as np
 import taichi as ti
 
 from . import status as st
-from .layout import REMOVED
+from .layout import REMOVED, WALL
 
 PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
     ("max_density_error", 1),
     ("remove_escaped", 1),
     ("guard_lo", "dim"),
     ("guard_hi", "dim"),
+    ("spray_lo", "dim"),  # water beyond these coordinates is spray (see above)
+    ("spray_hi", "dim"),
 )
 OPEN = 1e30  # the guard position of an open face: never reached
 
@@ -51,12 +64,31 @@ def parameter_values(scene, controls) -> dict:
             guard_lo[axis] = -OPEN
         else:
             guard_hi[axis] = OPEN
+    spray_lo, spray_hi = spray_region(scene)
     return dict(
         max_density_error=controls.max_density_error,
         remove_escaped=1.0 if removes_escaped(scene, controls) else 0.0,
         guard_lo=guard_lo,
         guard_hi=guard_hi,
+        spray_lo=spray_lo,
+        spray_hi=spray_hi,
     )
+
+
+def spray_region(scene):
+    """(lo, hi): water beyond lo[d] or hi[d] along an axis d is spray. Beyond an open
+    face of the domain the region starts where the walls end along that face's axis
+    (the domain's face if there are no walls); elsewhere it is nowhere (+-OPEN)."""
+    lo = np.full(scene.dim, -OPEN)
+    hi = np.full(scene.dim, OPEN)
+    walls = scene.position[scene.kind == WALL]
+    for face in scene.open_faces:
+        axis = "xyz".index(face[1])
+        if face[0] == "-":
+            lo[axis] = walls[:, axis].min() if len(walls) else scene.domain[0][axis]
+        else:
+            hi[axis] = walls[:, axis].max() if len(walls) else scene.domain[1][axis]
+    return lo, hi
 
 
 @ti.data_oriented
@@ -92,15 +124,23 @@ class Guards:
                 if error > max_error:
                     code |= st.DENSITY
         outside = False
+        spray = False
         for d in ti.static(range(self.dim)):
             if ti.static(not self.periodic[d]):
                 if x[d] < s.params[p.guard_lo + d] or x[d] > s.params[p.guard_hi + d]:
                     outside = True
+                if x[d] < s.params[p.spray_lo + d] or x[d] > s.params[p.spray_hi + d]:
+                    spray = True
         if outside and code == 0 and s.params[p.remove_escaped] > 0.0:
             s.Ci[q.kind, i] = REMOVED
             ti.atomic_add(s.flags[st.REMOVED_COUNT], 1)
         elif outside:
             code |= st.ESCAPED
+        if spray and code == st.DENSITY and s.params[p.remove_escaped] > 0.0:
+            s.Ci[q.kind, i] = REMOVED
+            ti.atomic_add(s.flags[st.REMOVED_COUNT], 1)
+            ti.atomic_add(s.flags[st.SPRAY_COUNT], 1)
+            code = 0
         if code != 0 and s.status[st.FROZEN] == 0.0:
             ti.atomic_or(s.flags[st.CODES], code)
             k = ti.atomic_add(s.flags[st.COUNT], 1)
