@@ -12,6 +12,24 @@ from .layout import FLUID, WALL
 from .dfsph import CHUNKS
 
 
+@ti.func
+def _chunk(n, c):
+    """Particles [begin, end) of chunk c of n particles in CHUNKS chunks."""
+    size = (n + CHUNKS - 1) // CHUNKS
+    return c * size, ti.min(c * size + size, n)
+
+
+@ti.func
+def _mean_over_chunks(x: ti.template(), slot: ti.template()):
+    """(Serial.) x.result[slot] = the chunks' error sums over their fluid particle count."""
+    total = ti.cast(0.0, ti.f64)
+    fluid = ti.cast(0.0, ti.f64)
+    for c in range(CHUNKS):
+        total += x.part[c, 0]
+        fluid += x.part[c, 1]
+    x.result[slot] = total / ti.max(fluid, 1.0)
+
+
 @ti.data_oriented
 class _DensityVisitor:
     """Step 1's neighbour visitor: density, the factor's sums, D rho/Dt, the pair list."""
@@ -147,11 +165,10 @@ class Bodies:
             # divergence solve has nothing to do (the host skips it, and ``middle`` with it)
             for c in range(CHUNKS):
                 dt = ti.cast(s_mem.status[st.DT], real)
-                n = s_mem.sizes[4]
-                size = (n + CHUNKS - 1) // CHUNKS
+                begin, end = _chunk(s_mem.sizes[4], c)
                 error = ti.cast(0.0, ti.f64)
                 count = 0
-                for i in range(c * size, ti.min(c * size + size, n)):
+                for i in range(begin, end):
                     if s_mem.Si[q.kind, i] == FLUID:
                         if x.pairs.count[i] >= s_mem.params[p["dfsph_min_neighbours"]]:
                             rho0 = s_mem.mat[s_mem.Si[q.material, i], rho0_col]
@@ -161,12 +178,7 @@ class Bodies:
                 x.part[c, 1] = ti.cast(count, ti.f64)
             ti.loop_config(serialize=True)
             for _ in range(1):
-                total = ti.cast(0.0, ti.f64)
-                fluid = ti.cast(0.0, ti.f64)
-                for c in range(CHUNKS):
-                    total += x.part[c, 0]
-                    fluid += x.part[c, 1]
-                x.result[1] = total / ti.max(fluid, 1.0)
+                _mean_over_chunks(x, 1)
 
         return body
 
@@ -209,11 +221,10 @@ class Bodies:
                 s = ti.static(s_mem._replace(params=local(s_mem)))
                 dt = ti.cast(s.status[st.DT], real)
                 scale = dt * dt if ti.static(density) else dt
-                n = s.sizes[4]
-                size = (n + CHUNKS - 1) // CHUNKS
+                begin, end = _chunk(s.sizes[4], c)
                 error = ti.cast(0.0, ti.f64)
                 count = 0
-                for i in range(c * size, ti.min(c * size + size, n)):
+                for i in range(begin, end):
                     if s.Si[q.kind, i] == FLUID:
                         xi = s.Sv[q.position, i]
                         ai = s.Sv[q.acc_p, i]
@@ -247,12 +258,7 @@ class Bodies:
                 x.part[c, 1] = ti.cast(count, ti.f64)
             ti.loop_config(serialize=True)
             for _ in range(1):
-                total = ti.cast(0.0, ti.f64)
-                fluid = ti.cast(0.0, ti.f64)
-                for c in range(CHUNKS):
-                    total += x.part[c, 0]
-                    fluid += x.part[c, 1]
-                x.result[0] = total / ti.max(fluid, 1.0)
+                _mean_over_chunks(x, 0)
 
         return body
 
