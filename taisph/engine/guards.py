@@ -131,9 +131,13 @@ class Guards:
                     outside = True
                 if x[d] < s.params[p.spray_lo + d] or x[d] > s.params[p.spray_hi + d]:
                     spray = True
-        if outside and code == 0 and s.params[p.remove_escaped] > 0.0:
+        # a particle leaving the domain is removed whatever its density (it is gone;
+        # its density error may come from the walls it just passed): only a non-finite
+        # state stops the run
+        if outside and code & st.NONFINITE == 0 and s.params[p.remove_escaped] > 0.0:
             s.Ci[q.kind, i] = REMOVED
             ti.atomic_add(s.flags[st.REMOVED_COUNT], 1)
+            code = 0
         elif outside:
             code |= st.ESCAPED
         if spray and code == st.DENSITY and s.params[p.remove_escaped] > 0.0:
