@@ -10,16 +10,17 @@ from taisph.parameters import (ParameterError, at_least, between, checked, coura
                                known_integrator, known_kernel, lattice_count, one_of, optional, positive,
                                smoothing_factor)
 from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall, PressureGradient, XSPH
-from taisph.eos import tait
+from taisph.eos import Tait, tait
 
 WALL_MODELS = ("lj", "dummy")
+TENSION_DEFAULT = True
 
 
 @checked(dx=positive, width=positive, height=positive, tank_width=positive, tank_height=positive,
          alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
          kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
          wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
-         courant=optional(courant_number), t_end=positive, frames=integer(at_least=1), closed_top=flag)
+         courant=optional(courant_number), tension=optional(flag), t_end=positive, frames=integer(at_least=1), closed_top=flag)
 def dam_break(
     dx: float = 0.02,
     width: float = 1.0,
@@ -38,6 +39,7 @@ def dam_break(
     delta: float | None = None,
     xsph: float | None = None,
     courant: float | None = None,
+    tension: bool | None = None,
     t_end: float = 2.0,
     frames: int = 50,
     closed_top: bool = False,
@@ -76,10 +78,10 @@ def dam_break(
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
                       kernel, integrator, t_end, frames, "dam_break", seed_physics=seed_physics, walls=walls,
-                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, closed_top=closed_top)
+                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, tension=tension, closed_top=closed_top)
 
 
-def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, courant=None):
+def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, courant=None, tension=None):
     """The dam break's model settings with the Nones filled in (see dam_break)."""
     walls = walls or ("lj" if seed_physics else "dummy")
     if wall_friction is None:
@@ -88,13 +90,16 @@ def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, cour
         delta = 0.0 if seed_physics else 0.1
     if courant is None and walls == "dummy" and delta:
         courant = 0.3
-    return walls, wall_friction, delta, courant
+    if tension is None:
+        tension = TENSION_DEFAULT or seed_physics
+    return walls, wall_friction, delta, courant, tension
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
                kernel, integrator, t_end, frames, name, seed_physics=False, walls=None, wall_friction=None,
-               delta=None, xsph=None, courant=None, description=None, closed_top=False):
-    walls, wall_friction, delta, courant = physics(seed_physics, walls, wall_friction, delta, courant)
+               delta=None, xsph=None, courant=None, description=None, closed_top=False, tension=None):
+    walls, wall_friction, delta, courant, tension = physics(seed_physics, walls, wall_friction, delta, courant,
+                                                            tension)
     if wall_friction and walls != "dummy":
         raise ParameterError(f"{name}: wall_friction needs walls = 'dummy' (the Lennard-Jones walls carry no "
                              "velocity to rub against)")
@@ -110,6 +115,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
                   *([("depth", depth)] if dim == 3 else []))
     c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
+    eos = Tait(tension=tension)
     up = 1  # the vertical axis: y in 2D and in 3D (x along the flow, z across in 3D)
     gravity = [0.0] * dim
     gravity[up] = -g
@@ -145,6 +151,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         remove_escaped=True,
         courant=courant,
         materials=[water],
+        eos=eos,
         terms=terms,
         kernel=kernel,
         integrator=integrator,

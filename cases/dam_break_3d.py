@@ -10,7 +10,7 @@ from .dam_break import WALL_MODELS, _dam_break
          alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
          kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
          wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
-         courant=optional(courant_number), t_end=positive, frames=integer(at_least=1), closed_top=flag)
+         courant=optional(courant_number), tension=optional(flag), t_end=positive, frames=integer(at_least=1), closed_top=flag)
 def dam_break_3d(
     dx: float = 0.05,
     width: float = 1.0,
@@ -30,6 +30,7 @@ def dam_break_3d(
     delta: float | None = None,
     xsph: float | None = None,
     courant: float | None = None,
+    tension: bool | None = None,
     t_end: float = 1.0,
     frames: int = 25,
     closed_top: bool = False,
@@ -41,4 +42,4 @@ def dam_break_3d(
     """
     return _dam_break(3, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
                       kernel, integrator, t_end, frames, "dam_break_3d", seed_physics=seed_physics, walls=walls,
-                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, closed_top=closed_top)
+                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, tension=tension, closed_top=closed_top)

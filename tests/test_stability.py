@@ -14,6 +14,7 @@ from taisph.cli import main as cli
 from taisph import simulation
 from taisph.io import vtk
 from taisph.engine.layout import FLUID
+from taisph.eos import Tait, tait
 from taisph.geometry import box_walls, lattice
 from taisph.simulation import SimulationError
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
@@ -28,6 +29,8 @@ def energy(sim):
     mat = sim.scene.materials[0]
     b, gam, r0 = mat.rho0 * mat.c0**2 / mat.gamma, mat.gamma, mat.rho0
     e_int = b / r0 * ((rho / r0) ** (gam - 1) / (gam - 1) + r0 / rho - gam / (gam - 1))
+    if not sim.scene.eos.tension:  # no pressure below rho0: no energy stored by expansion
+        e_int = np.where(rho < r0, 0.0, e_int)
     return float(np.sum(m * (0.5 * (v * v).sum(1) + G * y + e_int)))
 
 
@@ -150,6 +153,66 @@ def test_spray_beyond_the_open_walls_is_removed_when_its_density_leaves_the_rang
         taisph.Simulation(colliding_blocks(height=1.6, remove_escaped=False)).run(0.02, frames=1)
     with pytest.raises(SimulationError, match="density error"):  # inside the tank: no spray
         taisph.Simulation(colliding_blocks(height=0.5)).run(0.02, frames=1)
+
+
+def test_a_particle_leaving_the_domain_is_removed_whatever_its_density():
+    """With remove_escaped, water beyond the guard box is removed and counted even if
+    its density is also out of range (at dx = 0.005 the flagship once stopped on a
+    particle thrown over the right wall's top, compressed 20 % by the wall it passed);
+    without remove_escaped the run stops, naming both failures."""
+    def scene(remove_escaped):
+        dx = 0.05
+        s = taisph.Scene("leaving", dim=2, dx=dx, smoothing_length=1.3 * dx, domain=([0, 0], [1, 1]),
+                         materials=[taisph.Material(c0=20.0)], remove_escaped=remove_escaped,
+                         terms=[Continuity(), PressureGradient()])
+        s.add_fluid(lattice([0.3, 0.3], [0.7, 0.7], dx))  # at rest, rho0
+        s.add_fluid(lattice([1.2, 0.3], [1.4, 0.5], dx), velocity=[5.0, 0.0], density=1250.0)  # 25 % over
+        return s
+
+    sim = taisph.Simulation(scene(True))
+    summary = sim.run(0.01, frames=1)
+    assert summary.removed == 16 and summary.spray_removed == 0
+    assert summary.fluid_mass + summary.removed_mass == pytest.approx(scene(True).mass.sum(), rel=1e-12)
+    with pytest.raises(SimulationError, match="density error, left the domain"):
+        taisph.Simulation(scene(False)).run(0.01, frames=1)
+
+
+def stretched_block(tension, rho_ratio=0.75):
+    """A 10 x 10 block of water at rest, no gravity, no walls, its density rho_ratio rho0
+    throughout (as in a stretched jet): Tait pressure B (0.75^7 - 1) = -0.87 B."""
+    dx = 0.05
+    water = taisph.Material(c0=20.0)
+    scene = taisph.Scene("stretched", dim=2, dx=dx, smoothing_length=1.3 * dx, domain=([0, 0], [1, 1]),
+                         materials=[water], eos=Tait(tension=tension),
+                         terms=[Continuity(), PressureGradient(), ArtificialViscosity(alpha=0.1)])
+    scene.add_fluid(lattice([0.25, 0.25], [0.75, 0.75], dx), density=rho_ratio * water.rho0)
+    return scene
+
+
+def test_without_tension_a_stretched_fluid_feels_no_pressure_and_the_guard_checks_compression_only():
+    """Tait(tension=False): a liquid is not stretched, rho <- max(rho, rho0), P >= 0. A
+    block started at 0.75 rho0 is held at rho0 with P = 0 everywhere, so it stays
+    exactly at rest (no force at all, not only a balanced one) and does not trip the
+    density guard (20 %); with tension the same block trips it at once; compression
+    is still guarded (docs/stability.md, "The open tank")."""
+    sim = taisph.Simulation(stretched_block(tension=False))
+    x0 = sim.positions().copy()
+    sim.run(0.01, frames=1)
+    assert sim.steps > 10
+    np.testing.assert_array_equal(sim.pressure(), 0.0)
+    np.testing.assert_array_equal(sim.velocities(), 0.0)
+    np.testing.assert_array_equal(sim.positions(), x0)
+    np.testing.assert_array_equal(sim.density(), 1000.0)
+    with pytest.raises(SimulationError, match="density error"):
+        taisph.Simulation(stretched_block(tension=True)).run(0.01, frames=1)
+    # compression is still guarded
+    with pytest.raises(SimulationError, match="density error"):
+        taisph.Simulation(stretched_block(tension=False, rho_ratio=1.25)).run(0.01, frames=1)
+    # and below 20 % the tension is there: the block's edge is pulled in
+    sim = taisph.Simulation(stretched_block(tension=True, rho_ratio=0.9))
+    sim.run(0.01, frames=1)
+    assert np.ptp(sim.positions()[:, 0]) < np.ptp(x0[:, 0]) - 1e-4
+    assert tait.pressure(np.array([900.0, 1100.0]), 1000.0, 20.0, tension=False)[0] == 0.0
 
 
 def test_density_guard():

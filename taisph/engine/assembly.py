@@ -148,7 +148,8 @@ class Solver:
         if self.dfsph:  # artificial viscosity's equivalent (engine/dfsph.py)
             viscosity_rows.append(rows["dfsph_nu_art"])
         self.timestep = timestep.TimeStep(rows, self.eos, viscosity_rows)
-        self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic, compression_only=self.dfsph)
+        self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic,
+                                    compression_only=self.dfsph or not getattr(scene.eos, "tension", True))
         # rates.acc: dv/dt; rates.d[k]: rate of the k-th integrated scalar (a Taichi
         # vector needs length >= 1, hence the max); rates.shift: a correction to the
         # velocity that moves the particles (XSPH), only if a term provides one.

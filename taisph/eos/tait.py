@@ -5,10 +5,23 @@
 Monaghan (1994) eq. 3.1 / Batchelor (1967). gamma = 7 for water. The sound speed c0
 sets the compressibility: c0 >= 10 U_max keeps density variations near 1 %.
 Each material has its own rho0, c0, gamma (columns of the material table).
+
+``Tait(tension=False)``: a liquid that cannot be stretched. A particle whose density
+falls below rho0 is separating from its neighbours (a breaking jet, spray, a
+splash): its density is held at rho0, so it flies with zero pressure and feels
+pressure again as soon as it is compressed, rho <- max(rho, rho0), P >= 0.
+With tension (the default, the seed's model) a stretched jet has P down to -B: that
+pulls thin ligaments into clumps that fly apart at tens of m/s, the tensile
+instability of free-surface SPH (Swegle et al. 1995; Sun et al. 2017). Flooring
+only the pressure is not enough with the continuity equation: a particle that flew
+as spray keeps its low density and lands as a hole the bulk collapses into (seen at
+dx = 0.005, docs/stability.md). SPlisHSPlasH's WCSPH clamps its density the same
+way (Becker & Teschner 2007). The density guard then checks compression only.
 """
 
 import copy
 
+import numpy as np
 import taichi as ti
 
 
@@ -22,6 +35,19 @@ class Tait:
     scalars = ("sound_speed",)  # per-particle quantities it stores
     derived = ("sound_speed",)  # ... recomputed from the state every step (not carried)
     outputs = ()  # stored quantities worth writing to the frames
+    tension = True  # class default: checkpoints of earlier versions unpickle with it
+
+    def __init__(self, tension: bool = True):
+        self.tension = bool(tension)
+
+    def __repr__(self):
+        return "Tait()" if self.tension else "Tait(tension=False)"
+
+    def __eq__(self, other):
+        return type(other) is type(self) and other.tension == self.tension
+
+    def __hash__(self):
+        return hash(("tait", self.tension))
 
     def material_row(self, material) -> list:
         b = material.rho0 * material.c0**2 / material.gamma
@@ -35,14 +61,18 @@ class Tait:
         return bound
 
     def compile_key(self):
-        return ("tait",)
+        return ("tait",) if self.tension else ("tait", "no tension")
 
     @ti.func
     def derive(self, s: ti.template(), i):
         """Pressure and sound speed of (sorted) particle i from its density."""
         q = ti.static(self.q)
         material = s.Si[q.material, i]
-        s.Ss[q.pressure, i] = self.pressure(s, material, s.Ss[q.density, i])
+        rho = s.Ss[q.density, i]
+        if ti.static(not self.tension):  # a liquid is not stretched: no density below rho0
+            rho = ti.max(rho, s.mat[material, self.m.rho0])
+            s.Ss[q.density, i] = rho
+        s.Ss[q.pressure, i] = self.pressure(s, material, rho)
         s.Ss[q.sound_speed, i] = s.mat[material, self.m.c0]
 
     @ti.func
@@ -62,9 +92,10 @@ class Tait:
         return s.Ss[self.q.sound_speed, i]
 
 
-def pressure(rho, rho0, c0, gamma=7.0):
+def pressure(rho, rho0, c0, gamma=7.0, tension=True):
     """Tait pressure (numpy), for initial conditions and tests."""
-    return rho0 * c0**2 / gamma * ((rho / rho0) ** gamma - 1.0)
+    p = rho0 * c0**2 / gamma * ((rho / rho0) ** gamma - 1.0)
+    return p if tension else np.maximum(p, 0.0)
 
 
 def density(p, rho0, c0, gamma=7.0):
