@@ -103,8 +103,8 @@ class Scene:
     # faces of the domain particles may cross without tripping the guards: "-x", "+y"...
     open_faces: tuple = ()
     # particles that leave the domain elsewhere are removed and counted (instead of
-    # stopping the run), and so is spray beyond the walls' open face whose density
-    # leaves the guard's range (taisph.engine.guards); the remove_escaped control
+    # stopping the run), and so are particles whose density leaves the guard's range, up
+    # to the max_out_of_range control (taisph.engine.guards); the remove_escaped control
     # overrides this
     remove_escaped: bool = False
     # the Courant number of the adaptive step, for a scene measured to hold more than
@@ -336,9 +336,9 @@ class Scene:
         if self.open_faces:
             lines.append(f"  open at {', '.join(self.open_faces)}: particles may leave and come back there")
         if self.remove_escaped:
-            lines.append("  particles that leave the domain elsewhere are removed and counted"
-                         + (", as is spray beyond the walls' open face whose density leaves the guard's range"
-                            if self.open_faces else ""))
+            lines.append("  particles that leave the domain" + (" elsewhere" if self.open_faces else "")
+                         + " are removed and counted, as are particles whose density leaves the guard's range "
+                         "(up to max_out_of_range)")
         if self.neighbour_skin > 0:
             lines.append(f"  neighbour lists with a skin of {self.neighbour_skin:g} support radii")
         return "\n".join(lines)

@@ -269,7 +269,7 @@ class Simulation:
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
                           float(masses[kinds == FLUID].sum()), float(masses[kinds == REMOVED].sum()),
                           self.pressure_solve.stats.summary() if self.solver.dfsph else None,
-                          self.state.read_flag(st.SPRAY_COUNT))
+                          self.state.read_flag(st.OUT_OF_RANGE_COUNT))
 
     @property
     def pressure_solve(self):
@@ -320,7 +320,8 @@ class Simulation:
         return self._arrays()[group][getattr(self.solver.layout.q, name)].copy()
 
     def positions(self) -> np.ndarray:
-        """(N, dim) positions, in particle-id order (the scene's order)."""
+        """(N, dim) positions, in particle-id order (the scene's order); NaN for removed
+        particles (``kinds() == REMOVED``)."""
         return self.quantity("position")
 
     def velocities(self) -> np.ndarray:

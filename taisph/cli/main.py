@@ -14,7 +14,7 @@ import numpy as np
 
 from ..engine.layout import WALL
 from . import cases
-from .parser import COURANT, FRAMES, NON_NEGATIVE, POSITIVE, SKIN, THREADS, Parser
+from .parser import COURANT, FRACTION, FRAMES, NON_NEGATIVE, POSITIVE, SKIN, THREADS, Parser
 
 USAGE = """\
 python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
@@ -72,7 +72,12 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g.add_argument("--max-density-error", type=NON_NEGATIVE, default=0.2,
                    help="stop when |rho/rho0 - 1| exceeds this fraction (>= 0; 0: off; default 0.2)")
     g.add_argument("--remove-escaped", action="store_true",
-                   help="remove (and count) particles that leave the domain instead of stopping")
+                   help="remove (and count) particles that leave the domain instead of stopping, and particles "
+                        "whose density leaves the range, up to --max-out-of-range")
+    g.add_argument("--max-out-of-range", type=FRACTION, default=0.001, metavar="F",
+                   help="with --remove-escaped (or a case that removes escaped particles, as dam_break): the "
+                        "fraction of the fluid particles that may be removed for their density before the next "
+                        "one stops the run (0 to 1; default 0.001)")
     g.add_argument("--checkpoint-every", type=FRAMES, metavar="K",
                    help="write a checkpoint to OUT/checkpoint every K frames (K >= 1; resume with "
                         "'resume OUT/checkpoint')")
@@ -236,6 +241,7 @@ def simulate(scene, args, t_end=None, frames=None, notes=(), writers=(), control
         controls["courant"] = args.courant
     sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads,
                             max_density_error=args.max_density_error, remove_escaped=args.remove_escaped or None,
+                            max_out_of_range=args.max_out_of_range,
                             deterministic=args.deterministic, **controls)
     step = (f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt
             else f"adaptive dt (Courant {sim.controls.courant:g}; first {sim.dt:.3g} s)")

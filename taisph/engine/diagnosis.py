@@ -129,6 +129,11 @@ def likely_causes(sim, report) -> list:
         causes.append(f"the density exceeds rho0 by more than {report['max_density_error']:.0%}: the pressure solve "
                       "lets particles be crushed; lower dfsph_tolerance or the maximum step (dt_max)")
     elif "density error" in report["codes"]:
+        removed = sim.state.read_flag(st.OUT_OF_RANGE_COUNT)
+        if removed:
+            causes.append(f"{removed} particles whose density left the range were already removed (remove_escaped), "
+                          f"the limit of max_out_of_range = {sim.controls.max_out_of_range:g} of the fluid "
+                          "particles: more than a few particles in flight are out of range, the flow itself is")
         causes.append(
             f"density departs from rho0 by more than {report['max_density_error']:.0%}: the sound speed c0 is "
             "too low for the flow speed (keep c0 >= 10 |v|max), or particles are being crushed against a "

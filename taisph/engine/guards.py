@@ -16,16 +16,15 @@ explains (:mod:`taisph.engine.diagnosis`). With ``remove_escaped`` (a control, o
 scene's default) a particle leaving the guard box is instead turned into an inactive particle (kind ``removed``: no
 forces, not written), and counted.
 
-Spray: beyond an open face of the walls (above the top of an open tank: the walls'
-largest coordinate along that face's axis) water flies free. A splash there may break
-into clusters of a few particles that weakly compressible SPH cannot represent: their
-density falls as a jet stretches, the tension of the equation of state pulls them
-together at tens of m/s, and their collisions compress them beyond the guard's range
-(the flagship dam break at dx = 0.005 did so 0.5 m above its tank at t = 2.17 s; see
-docs/stability.md). With ``remove_escaped``, a fluid particle out there whose only
-failure is its density error is removed and counted as spray, as DualSPHysics removes
-particles whose density leaves its range (``RhopOutMin``/``RhopOutMax``); inside the
-tank the density guard stops the run as before.
+Out of range: with ``remove_escaped``, a fluid particle whose only failure is its
+density error is removed and counted too, as DualSPHysics removes particles whose
+density leaves its range (``RhopOutMin``/``RhopOutMax``, 700-1300 kg/m^3 by default),
+until ``max_out_of_range`` (a fraction of the fluid particles, a control) have been
+removed that way; the next one stops the run. Weakly compressible SPH cannot represent
+a few particles in flight: in the flagship dam break at dx = 0.005 the run-up jets fly
+8 m high, fall back onto the right wall's top, and a few particles there are thrown at
+tens of m/s and crushed or stretched beyond the guard's range (docs/stability.md). A
+blow-up of the bulk removes many particles at once and reaches the limit.
 """
 
 import collections
@@ -41,8 +40,7 @@ PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
     ("remove_escaped", 1),
     ("guard_lo", "dim"),
     ("guard_hi", "dim"),
-    ("spray_lo", "dim"),  # water beyond these coordinates is spray (see above)
-    ("spray_hi", "dim"),
+    ("max_out_of_range", 1),  # particles that may be removed for their density (see above)
 )
 OPEN = 1e30  # the guard position of an open face: never reached
 
@@ -64,31 +62,13 @@ def parameter_values(scene, controls) -> dict:
             guard_lo[axis] = -OPEN
         else:
             guard_hi[axis] = OPEN
-    spray_lo, spray_hi = spray_region(scene)
     return dict(
         max_density_error=controls.max_density_error,
         remove_escaped=1.0 if removes_escaped(scene, controls) else 0.0,
         guard_lo=guard_lo,
         guard_hi=guard_hi,
-        spray_lo=spray_lo,
-        spray_hi=spray_hi,
+        max_out_of_range=np.floor(controls.max_out_of_range * scene.n_fluid),
     )
-
-
-def spray_region(scene):
-    """(lo, hi): water beyond lo[d] or hi[d] along an axis d is spray. Beyond an open
-    face of the domain the region starts where the walls end along that face's axis
-    (the domain's face if there are no walls); elsewhere it is nowhere (+-OPEN)."""
-    lo = np.full(scene.dim, -OPEN)
-    hi = np.full(scene.dim, OPEN)
-    walls = scene.position[scene.kind == WALL]
-    for face in scene.open_faces:
-        axis = "xyz".index(face[1])
-        if face[0] == "-":
-            lo[axis] = walls[:, axis].min() if len(walls) else scene.domain[0][axis]
-        else:
-            hi[axis] = walls[:, axis].max() if len(walls) else scene.domain[1][axis]
-    return lo, hi
 
 
 @ti.data_oriented
@@ -102,6 +82,20 @@ class Guards:
         self.has_rho0 = hasattr(eos.m, "rho0")  # compile time: is there a reference density?
         # DFSPH's summation density is short of rho0 at a free surface by design: only compression counts
         self.compression_only = compression_only
+
+    @ti.func
+    def remove(self, s: ti.template(), i):
+        """Take fluid particle i (in C) out of the simulation, for good: kind ``removed``
+        (no forces, not written, not guarded) and position NaN, which no neighbour
+        search ever finds within its range (a removed particle left where it was, or
+        moving on, would still push its neighbours with its last pressure: at dx = 0.005
+        such particles, removed for their density, crossed the tank at hundreds of m/s
+        and blew the flow up, docs/stability.md), and velocity zero."""
+        q = ti.static(self.q)
+        s.Ci[q.kind, i] = REMOVED
+        s.Cv[q.position, i] = ti.Vector([ti.math.nan] * self.dim, dt=s.Cv.dtype)
+        s.Cv[q.velocity, i] = ti.Vector.zero(s.Cv.dtype, self.dim)
+        ti.atomic_add(s.flags[st.REMOVED_COUNT], 1)
 
     @ti.func
     def check(self, s: ti.template(), i, rates: ti.template()):
@@ -124,27 +118,25 @@ class Guards:
                 if error > max_error:
                     code |= st.DENSITY
         outside = False
-        spray = False
         for d in ti.static(range(self.dim)):
             if ti.static(not self.periodic[d]):
                 if x[d] < s.params[p.guard_lo + d] or x[d] > s.params[p.guard_hi + d]:
                     outside = True
-                if x[d] < s.params[p.spray_lo + d] or x[d] > s.params[p.spray_hi + d]:
-                    spray = True
+        remove = s.params[p.remove_escaped] > 0.0
         # a particle leaving the domain is removed whatever its density (it is gone;
         # its density error may come from the walls it just passed): only a non-finite
         # state stops the run
-        if outside and code & st.NONFINITE == 0 and s.params[p.remove_escaped] > 0.0:
-            s.Ci[q.kind, i] = REMOVED
-            ti.atomic_add(s.flags[st.REMOVED_COUNT], 1)
+        if outside and code & st.NONFINITE == 0 and remove:
+            self.remove(s, i)
             code = 0
         elif outside:
             code |= st.ESCAPED
-        if spray and code == st.DENSITY and s.params[p.remove_escaped] > 0.0:
-            s.Ci[q.kind, i] = REMOVED
-            ti.atomic_add(s.flags[st.REMOVED_COUNT], 1)
-            ti.atomic_add(s.flags[st.SPRAY_COUNT], 1)
-            code = 0
+        if code == st.DENSITY and remove:  # out of range, up to the limit
+            if ti.atomic_add(s.flags[st.OUT_OF_RANGE_COUNT], 1) < s.params[p.max_out_of_range]:
+                self.remove(s, i)
+                code = 0
+            else:  # the limit is reached: this one stops the run (and is not counted)
+                ti.atomic_sub(s.flags[st.OUT_OF_RANGE_COUNT], 1)
         if code != 0 and s.status[st.FROZEN] == 0.0:
             ti.atomic_or(s.flags[st.CODES], code)
             k = ti.atomic_add(s.flags[st.COUNT], 1)

@@ -224,7 +224,7 @@ class State:
         """The inverse of :meth:`arrays` (the grid already set up)."""
         self.set_state(arrays["C0"], arrays["C1"], arrays["C2"])
         self.status.from_numpy(arrays["status"])
-        flags = np.zeros(st.FLAGS_SIZE, np.int32)  # checkpoints before SPRAY_COUNT had one less
+        flags = np.zeros(st.FLAGS_SIZE, np.int32)  # checkpoints before OUT_OF_RANGE_COUNT had one less
         flags[: len(arrays["flags"])] = arrays["flags"]
         self.flags.from_numpy(flags)
         for name, axis in (("x_ref", 0), ("ncount", 0)):

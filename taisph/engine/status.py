@@ -30,11 +30,12 @@ STATUS_SIZE = 16
 # ``flags`` (i32): guard failures (taisph.engine.guards) and removed particles
 CODES = 0  # OR of the failure bits below
 COUNT = 1  # particles that tripped a guard
-REMOVED_COUNT = 2  # particles removed with remove_escaped (left the domain, or spray)
+REMOVED_COUNT = 2  # particles removed with remove_escaped (left the domain, or density out of range)
 RECORDS = 3  # (id, code) pairs of the first MAX_RECORDED offending particles from here
 MAX_RECORDED = 16
-SPRAY_COUNT = RECORDS + 2 * MAX_RECORDED  # of those, spray whose density left the range
-FLAGS_SIZE = SPRAY_COUNT + 1
+# of those, removed because their density left the range (taisph.engine.guards)
+OUT_OF_RANGE_COUNT = RECORDS + 2 * MAX_RECORDED
+FLAGS_SIZE = OUT_OF_RANGE_COUNT + 1
 
 NONFINITE, DENSITY, ESCAPED = 1, 2, 4
 # DFSPH (taisph.engine.dfsph): a pressure solve reached its maximum iterations unconverged;

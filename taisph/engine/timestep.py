@@ -40,8 +40,11 @@ class Controls:
     force_factor       C_force in dt = C_force sqrt(h / max |a|)         (0.25)
     viscous_factor     C_visc in dt = C_visc h^2 / nu                     (0.125)
     max_density_error  stop when |rho/rho0 - 1| exceeds this (0 disables; taisph.engine.guards)
-    remove_escaped     remove (and count) particles that leave the domain instead of stopping;
+    remove_escaped     remove (and count) particles that leave the domain instead of stopping,
+                       and particles whose density leaves the range, up to max_out_of_range;
                        None: as the scene says (``Scene.remove_escaped``)
+    max_out_of_range   with remove_escaped: the fraction of the fluid particles that may be
+                       removed for their density before the next one stops the run (0.001)
     deterministic      serial (stable) cell sort at every size: bit-reproducible runs
     dfsph_tolerance    DFSPH: mean density error a constant-density solve stops at (fraction of rho0)
     dfsph_divergence_tolerance   DFSPH: mean density change per step a divergence solve stops at
@@ -57,6 +60,7 @@ class Controls:
     viscous_factor: float = 0.125
     max_density_error: float = 0.2
     remove_escaped: bool | None = None
+    max_out_of_range: float = 0.001
     deterministic: bool = False
     # DFSPH's stopping rule (taisph.engine.dfsph). 0.02 %, not the 0.1 % of Bender & Koschier:
     # the dam break's front error fell from 0.218 to 0.189 (dx = 0.02) for 23 % more wall time;

@@ -66,12 +66,12 @@ class RunSummary:
     dt_min: float = float("nan")
     dt_mean: float = float("nan")
     dt_max: float = float("nan")
-    removed: int = 0  # particles removed so far (left the domain, or spray out of the density range)
+    removed: int = 0  # particles removed so far (left the domain, or density out of range)
     list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
     fluid_mass: float = float("nan")  # of the fluid particles still simulated, at the end
     removed_mass: float = 0.0  # of the particles removed so far
     pressure_solve: dict | None = None  # DFSPH: iterations per step and errors (dfsph.Stats.summary)
-    spray_removed: int = 0  # of `removed`: spray beyond the walls' open face, density out of range
+    out_of_range: int = 0  # of `removed`: density out of the guard's range (taisph.engine.guards)
 
     @property
     def particle_steps_per_second(self) -> float:
@@ -86,9 +86,9 @@ class RunSummary:
         removed += f", fluid mass {self.fluid_mass:.6g} kg"
         if self.removed:
             why = f"{self.removed} particles left the domain"
-            if self.spray_removed:
-                why = (f"{self.removed} particles: {self.removed - self.spray_removed} left the domain, "
-                       f"{self.spray_removed} spray beyond the walls' open face with density out of range")
+            if self.out_of_range:
+                why = (f"{self.removed} particles: {self.removed - self.out_of_range} left the domain, "
+                       f"{self.out_of_range} with density out of range")
             removed += f" + {self.removed_mass:.4g} kg removed ({why}) = {self.fluid_mass + self.removed_mass:.6g} kg"
         if self.pressure_solve:
             ps = self.pressure_solve
