@@ -251,6 +251,23 @@ def test_density_guard():
 
 
 # --- checkpoint and restart ---------------------------------------------------------
+def test_a_checkpoint_of_an_older_taisph_resumes_with_its_removed_particles_out_of_reach(tmp_path):
+    """Checkpoints written before removed particles were sent to NaN kept them where
+    they were removed; resuming one puts them out of every neighbour search too."""
+    sim = taisph.Simulation(colliding_blocks(height=0.5), max_out_of_range=1.0)
+    sim.run(0.02, frames=1, out=tmp_path / "a", checkpoint_every=1)
+    folder = tmp_path / "a" / "checkpoint"
+    with np.load(folder / "state.npz") as data:
+        arrays = dict(data)
+    q = sim.solver.layout.q
+    removed = arrays["C2"][q.kind] == REMOVED
+    assert removed.sum() > 0 and np.isnan(arrays["C0"][q.position][removed]).all()
+    arrays["C0"][q.position][removed] = 1.0  # as an older taisph left them
+    np.savez(folder / "state.npz", **arrays)
+    resumed = taisph.Simulation.from_checkpoint(folder)
+    assert np.isnan(resumed.positions()[resumed.kinds() == REMOVED]).all()
+
+
 @pytest.mark.parametrize("skin", [0.0, 0.3])
 def test_restart_matches_an_uninterrupted_run_bit_for_bit(tmp_path, skin):
     """Deterministic mode: a run resumed from a checkpoint ends bit-for-bit where the

@@ -18,6 +18,7 @@ from . import fields as fieldpool
 from . import neighbours, pairs, runtime
 from . import status as st
 from .assembly import Args
+from .layout import REMOVED
 
 
 class State:
@@ -222,7 +223,13 @@ class State:
 
     def restore(self, arrays):
         """The inverse of :meth:`arrays` (the grid already set up)."""
-        self.set_state(arrays["C0"], arrays["C1"], arrays["C2"])
+        vec, ints, q = arrays["C0"], arrays["C2"], self.solver.layout.q
+        removed = ints[q.kind] == REMOVED
+        if removed.any():  # checkpoints of taisph before 0.3 left removed particles where they were
+            vec = vec.copy()
+            vec[q.position][removed] = np.nan
+            vec[q.velocity][removed] = 0.0
+        self.set_state(vec, arrays["C1"], ints)
         self.status.from_numpy(arrays["status"])
         flags = np.zeros(st.FLAGS_SIZE, np.int32)  # checkpoints before OUT_OF_RANGE_COUNT had one less
         flags[: len(arrays["flags"])] = arrays["flags"]
