@@ -64,9 +64,13 @@ def dam_break(
     wall friction, Courant number 0.25.
     The tank is open at the top unless `closed_top`: water may run up a wall, fly
     above the domain and fall back (the top is not a guard), and water that goes over
-    a wall and leaves the domain elsewhere is removed and counted, as is spray above
-    the walls whose density leaves the guard's range (the run summary accounts for
-    their mass; docs/stability.md).
+    a wall and leaves the domain elsewhere is removed and counted, as are particles
+    whose density leaves the guard's range, up to the max_out_of_range control (the
+    run summary accounts for their mass; docs/stability.md).
+
+    tension: None or True, the Tait equation as it is (negative pressure in a
+    stretched fluid); False, ``Tait(tension=False)``: density held at >= rho0, so
+    pressure >= 0 (a liquid that cannot be stretched; docs/stability.md).
 
     Each of the following, left at None, follows the model (the defaults above, or
     the seed's): walls "dummy" or "lj"; wall_friction (dummy walls only): artificial
