@@ -13,14 +13,13 @@ from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiff
 from taisph.eos import Tait, tait
 
 WALL_MODELS = ("lj", "dummy")
-TENSION_DEFAULT = True
 
 
 @checked(dx=positive, width=positive, height=positive, tank_width=positive, tank_height=positive,
          alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
          kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
          wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
-         courant=optional(courant_number), tension=optional(flag), t_end=positive, frames=integer(at_least=1), closed_top=flag)
+         courant=optional(courant_number), tension=flag, t_end=positive, frames=integer(at_least=1), closed_top=flag)
 def dam_break(
     dx: float = 0.02,
     width: float = 1.0,
@@ -39,7 +38,7 @@ def dam_break(
     delta: float | None = None,
     xsph: float | None = None,
     courant: float | None = None,
-    tension: bool | None = None,
+    tension: bool = True,
     t_end: float = 2.0,
     frames: int = 50,
     closed_top: bool = False,
@@ -68,8 +67,8 @@ def dam_break(
     whose density leaves the guard's range, up to the max_out_of_range control (the
     run summary accounts for their mass; docs/stability.md).
 
-    tension: None or True, the Tait equation as it is (negative pressure in a
-    stretched fluid); False, ``Tait(tension=False)``: density held at >= rho0, so
+    tension: True (default, also with the seed's physics), the Tait equation as it is
+    (negative pressure in a stretched fluid); False, ``Tait(tension=False)``: density held at >= rho0, so
     pressure >= 0 (a liquid that cannot be stretched; docs/stability.md).
 
     Each of the following, left at None, follows the model (the defaults above, or
@@ -85,7 +84,7 @@ def dam_break(
                       wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, tension=tension, closed_top=closed_top)
 
 
-def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, courant=None, tension=None):
+def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, courant=None):
     """The dam break's model settings with the Nones filled in (see dam_break)."""
     walls = walls or ("lj" if seed_physics else "dummy")
     if wall_friction is None:
@@ -94,16 +93,13 @@ def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, cour
         delta = 0.0 if seed_physics else 0.1
     if courant is None and walls == "dummy" and delta:
         courant = 0.3
-    if tension is None:
-        tension = TENSION_DEFAULT or seed_physics
-    return walls, wall_friction, delta, courant, tension
+    return walls, wall_friction, delta, courant
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
                kernel, integrator, t_end, frames, name, seed_physics=False, walls=None, wall_friction=None,
-               delta=None, xsph=None, courant=None, description=None, closed_top=False, tension=None):
-    walls, wall_friction, delta, courant, tension = physics(seed_physics, walls, wall_friction, delta, courant,
-                                                            tension)
+               delta=None, xsph=None, courant=None, description=None, closed_top=False, tension=True):
+    walls, wall_friction, delta, courant = physics(seed_physics, walls, wall_friction, delta, courant)
     if wall_friction and walls != "dummy":
         raise ParameterError(f"{name}: wall_friction needs walls = 'dummy' (the Lennard-Jones walls carry no "
                              "velocity to rub against)")

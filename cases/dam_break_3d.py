@@ -10,7 +10,7 @@ from .dam_break import WALL_MODELS, _dam_break
          alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
          kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
          wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
-         courant=optional(courant_number), tension=optional(flag), t_end=positive, frames=integer(at_least=1), closed_top=flag)
+         courant=optional(courant_number), tension=flag, t_end=positive, frames=integer(at_least=1), closed_top=flag)
 def dam_break_3d(
     dx: float = 0.05,
     width: float = 1.0,
@@ -30,7 +30,7 @@ def dam_break_3d(
     delta: float | None = None,
     xsph: float | None = None,
     courant: float | None = None,
-    tension: bool | None = None,
+    tension: bool = True,
     t_end: float = 1.0,
     frames: int = 25,
     closed_top: bool = False,

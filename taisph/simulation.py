@@ -320,8 +320,7 @@ class Simulation:
         return self._arrays()[group][getattr(self.solver.layout.q, name)].copy()
 
     def positions(self) -> np.ndarray:
-        """(N, dim) positions, in particle-id order (the scene's order); NaN for removed
-        particles (``kinds() == REMOVED``)."""
+        """(N, dim) positions in particle-id order (the scene's); NaN for removed particles."""
         return self.quantity("position")
 
     def velocities(self) -> np.ndarray:

@@ -33,7 +33,7 @@ import numpy as np
 import taichi as ti
 
 from . import status as st
-from .layout import REMOVED, WALL
+from .layout import REMOVED
 
 PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
     ("max_density_error", 1),

@@ -225,7 +225,7 @@ class State:
         """The inverse of :meth:`arrays` (the grid already set up)."""
         vec, ints, q = arrays["C0"], arrays["C2"], self.solver.layout.q
         removed = ints[q.kind] == REMOVED
-        if removed.any():  # checkpoints of taisph before 0.3 left removed particles where they were
+        if removed.any():  # older checkpoints left removed particles where they were
             vec = vec.copy()
             vec[q.position][removed] = np.nan
             vec[q.velocity][removed] = 0.0

@@ -43,12 +43,6 @@ class Tait:
     def __repr__(self):
         return "Tait()" if self.tension else "Tait(tension=False)"
 
-    def __eq__(self, other):
-        return type(other) is type(self) and other.tension == self.tension
-
-    def __hash__(self):
-        return hash(("tait", self.tension))
-
     def material_row(self, material) -> list:
         b = material.rho0 * material.c0**2 / material.gamma
         return [material.rho0, material.c0, material.gamma, b]
