@@ -288,6 +288,35 @@ def test_restart_matches_an_uninterrupted_run_bit_for_bit(tmp_path, skin):
     np.testing.assert_array_equal(b.density(), a.density())
 
 
+@pytest.mark.parametrize("skin", [0.0, 0.3])
+def test_a_launch_after_the_target_is_reached_changes_nothing(skin):
+    """The host launches steps in batches whose length it guesses from the last dt (the
+    adaptive dt is chosen on the device), so a batch may end with launches after the
+    clock has reached the run's target; how the batches fall depends on wall-clock time.
+    Such a launch must leave every stored row as it was (it used to re-evaluate the
+    dummy walls' density at the corrected state: 85 wall densities changed at dx 0.08
+    with lists), and a run continued after it must stay bit for bit the same."""
+    def fresh():
+        scene = taisph.cases.dam_break(dx=0.08)
+        scene.neighbour_skin = skin
+        sim = taisph.Simulation(scene, deterministic=True)
+        sim.run(0.05, frames=1)
+        return sim
+
+    a, b = fresh(), fresh()
+    before = b.state.to_numpy()
+    for _ in range(3):
+        b._advance_one(0.05)  # launches with the clock at the target
+    after = b.state.to_numpy()
+    for rows_before, rows_after in zip(before, after):
+        np.testing.assert_array_equal(rows_after, rows_before)
+    a.run(0.08, frames=1)
+    b.run(0.08, frames=1)
+    assert a.steps == b.steps
+    for rows_a, rows_b in zip(a.state.to_numpy(), b.state.to_numpy()):
+        np.testing.assert_array_equal(rows_b, rows_a)
+
+
 def test_restart_with_parallel_sort_matches_to_round_off(tmp_path, monkeypatch):
     """Parallel cell sort (atomics): the order within a cell varies, so sums are taken in
     another order; 20 steps after a restart the state agrees to round-off (1e-12 m)."""

@@ -327,6 +327,8 @@ class Stepper:
         self.sort(t_target)
         dt = self.status[st.DT]
         s.round_trips += 1
+        if self.status[st.IDLE] > 0.0:  # the clock already stands at the target
+            return
         self.density(t_target)
         unconverged = False
         initial = self.result[1]  # the divergence error before any iteration

@@ -148,6 +148,16 @@ def _derive(solver):
     return derive
 
 
+@ti.func
+def _particles(s: ti.template()):
+    """How many particles this launch works on: none if it is idle (the clock already
+    stands at the target; :meth:`taisph.engine.timestep.TimeStep.begin_step`)."""
+    n = s.sizes[4]
+    if s.status[st.IDLE] > 0.0:
+        n = 0
+    return n
+
+
 def sort_body(solver, serial: bool):
     """dt, predictor, counting sort, scatter C -> S, equation of state (see above)."""
     q = solver.layout.q
@@ -158,10 +168,10 @@ def sort_body(solver, serial: bool):
 
     @ti.func
     def body(s: ti.template(), t_target):
-        n = s.sizes[4]
         ti.loop_config(serialize=True)
         for _ in range(1):
             timestep.begin_step(s, t_target)
+        n = _particles(s)
         dt = ti.cast(s.status[st.DT], real)
         ti.loop_config(serialize=serial)
         for i in range(n):
@@ -171,7 +181,8 @@ def sort_body(solver, serial: bool):
             grid.count(s, i, x)
         ti.loop_config(serialize=True)
         for _ in range(1):
-            grid.scan(s)
+            if s.status[st.IDLE] == 0.0:
+                grid.scan(s)
         rebuild = grid.rebuilding(s)
         ti.loop_config(serialize=serial)
         for i in range(n):
@@ -200,7 +211,8 @@ def pass_body(solver, neighbour_pass):
 
     @ti.func
     def body(s_mem: ti.template(), t_target):
-        for i in range(s_mem.sizes[4]):
+        n = _particles(s_mem)
+        for i in range(n):
             if ti.static(select < 0) or s_mem.Si[q.kind, i] == select:
                 s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
                 acc = neighbour_pass.init(s, i)
@@ -227,7 +239,8 @@ def force_body(solver):
     @ti.func
     def body(s_mem: ti.template(), t_target):
         dt = ti.cast(s_mem.status[st.DT], real)
-        for i in range(s_mem.sizes[4]):
+        n = _particles(s_mem)
+        for i in range(n):
             s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
             copy(s[3:6], i, s[:3], i)  # S -> C; the integrator then writes what it advances
             if s.Si[q.kind, i] == FLUID:

@@ -25,6 +25,10 @@ MAX_DISP2 = 11
 REBUILD = 12
 FORCE_REBUILD = 13
 REBUILDS = 14
+# 1 when this launch found the clock already at its target: the host launched a batch one
+# step longer than needed (it cannot know the adaptive dt ahead), and the launch must do
+# nothing at all, or the last state would depend on how the batches fell (timing)
+IDLE = 15
 STATUS_SIZE = 16
 
 # ``flags`` (i32): guard failures (taisph.engine.guards) and removed particles

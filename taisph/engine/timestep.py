@@ -195,26 +195,33 @@ class TimeStep:
         dt = ti.cast(s.params[p.dt_fixed], ti.f64)
         if dt <= 0.0:
             dt = ti.min(dt_stable, ti.cast(s.params[p.dt_max], ti.f64))
-        if s.flags[st.CODES] != 0:  # a guard tripped: freeze the state for the diagnosis
-            dt = 0.0
-            status[st.FROZEN] = 1.0
         remaining = t_target - status[st.TIME]
-        if dt > remaining:
-            dt = ti.max(remaining, 0.0)
-        elif dt < remaining < 1.5 * dt:
-            dt = 0.5 * remaining  # two equal steps instead of a sliver before the target
-        status[st.DT] = dt
-        status[st.DT_STABLE] = dt_stable
-        if dt > 0.0:
-            status[st.TIME] += dt
-            status[st.STEPS] += 1.0
-            status[st.DT_SUM] += dt
-            status[st.DT_MIN] = ti.min(status[st.DT_MIN], dt)
-            status[st.DT_MAX] = ti.max(status[st.DT_MAX], dt)
-            status[st.DT_STABLE_MIN] = ti.min(status[st.DT_STABLE_MIN], dt_stable)
-        status[st.MAX_ACC2] = 0.0
-        status[st.MAX_SIGNAL] = 0.0
-        status[st.MAX_DISP2] = 0.0
+        # Idle: the target was reached by an earlier launch of this batch. (The bootstrap,
+        # a zero-length step before any step, is not idle: it evaluates the first rates.)
+        idle = s.flags[st.CODES] == 0 and remaining <= 0.0 and status[st.STEPS] > 0.0
+        status[st.IDLE] = 1.0 if idle else 0.0
+        if idle:
+            status[st.DT] = 0.0
+        else:
+            if s.flags[st.CODES] != 0:  # a guard tripped: freeze the state for the diagnosis
+                dt = 0.0
+                status[st.FROZEN] = 1.0
+            if dt > remaining:
+                dt = ti.max(remaining, 0.0)
+            elif dt < remaining < 1.5 * dt:
+                dt = 0.5 * remaining  # two equal steps instead of a sliver before the target
+            status[st.DT] = dt
+            status[st.DT_STABLE] = dt_stable
+            if dt > 0.0:
+                status[st.TIME] += dt
+                status[st.STEPS] += 1.0
+                status[st.DT_SUM] += dt
+                status[st.DT_MIN] = ti.min(status[st.DT_MIN], dt)
+                status[st.DT_MAX] = ti.max(status[st.DT_MAX], dt)
+                status[st.DT_STABLE_MIN] = ti.min(status[st.DT_STABLE_MIN], dt_stable)
+            status[st.MAX_ACC2] = 0.0
+            status[st.MAX_SIGNAL] = 0.0
+            status[st.MAX_DISP2] = 0.0
 
     @ti.func
     def track(self, s: ti.template(), i, rates: ti.template()):
