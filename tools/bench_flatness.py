@@ -1,0 +1,107 @@
+"""Cost per fluid particle-step of the flagship 2D dam break at several sizes, timed over
+the same simulated interval, so that every size is measured in the same flow state.
+
+`tools/bench.py` gives every size the same number of particle-steps per block; the small
+case then steps far into the collapse while the large one barely leaves rest, and a step
+of moving water costs more than one of still water (the artificial viscosity acts on
+approaching pairs only). Here every size is first advanced to `--t-start` (untimed; the
+state is kept as a checkpoint under `--cache`, so a later run starts there at once), then
+all sizes advance the same simulated interval in `--rounds` rounds, one size after the
+other within each round, so that sizes are compared within the same minutes of this
+shared machine (the checkpoints hold the case as it was when they were written: delete
+the cache after changing the case's defaults). Each round prints ns per fluid particle-step for every size and each
+size's ratio to the largest; the summary gives the best round of each size and the
+median of the per-round ratios.
+
+    python tools/bench_flatness.py                       # 20k, 100k, 1M; t = 0.1 -> 0.11 s
+    python tools/bench_flatness.py --sizes 20000 100000 --t-start 0.05 --interval 0.02
+"""
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import taichi as ti
+
+import taisph
+from bench_reference import flagship
+
+
+def prepared(n_fluid: int, t_start: float, cache: Path, threads):
+    """The flagship at `n_fluid` fluid particles advanced to `t_start` (from the cached
+    checkpoint if there is one)."""
+    dx = math.sqrt(2.0 / n_fluid)
+    folder = cache / f"n{n_fluid}_t{t_start:g}"
+    if (folder / "state.npz").exists():
+        try:
+            return taisph.Simulation.from_checkpoint(folder, threads=threads)
+        except Exception as error:  # an unreadable cache is rebuilt, not trusted
+            print(f"  cache {folder} not usable ({error}); rebuilding")
+    sim = taisph.Simulation(flagship(2, dx), threads=threads)
+    start = time.perf_counter()
+    sim.run(t_end=t_start, frames=1)
+    print(f"  {sim.n_fluid} fluid: advanced to t = {sim.time:g} s in {sim.steps} steps, "
+          f"{time.perf_counter() - start:.0f} s (untimed)", flush=True)
+    sim.save_checkpoint(folder)
+    return sim
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--sizes", type=int, nargs="+", default=[20_000, 100_000, 1_000_000],
+                   help="fluid particles (dx = sqrt(2 / n))")
+    p.add_argument("--t-start", type=float, default=0.1, help="simulated time where timing starts (s)")
+    p.add_argument("--interval", type=float, default=0.01, help="simulated seconds timed per size")
+    p.add_argument("--rounds", type=int, default=5, help="0: only prepare the checkpoints")
+    p.add_argument("--threads", type=int, default=None)
+    p.add_argument("--cache", type=Path, default=Path("bench_flatness_cache"),
+                   help="folder for the checkpoints at t-start")
+    args = p.parse_args(argv)
+    taisph.engine.runtime.init(threads=args.threads)
+    print(f"preparing {args.sizes} at t = {args.t_start:g} s (checkpoints in {args.cache})", flush=True)
+    sims = [prepared(n, args.t_start, args.cache, args.threads) for n in args.sizes]
+    if args.rounds == 0:
+        return
+    for sim in sims:  # compile and warm up outside the timing
+        sim.step(2)
+    ti.sync()
+    width = args.interval / args.rounds
+    t0 = max(sim.time for sim in sims)
+    cost = {sim.n_fluid: [] for sim in sims}
+    timed_steps = {sim.n_fluid: 0 for sim in sims}
+    names = [f"{sim.n_fluid:>9}" for sim in sims]
+    print(f"\nns per fluid particle-step, each size over the same {width:g} s of simulated time per round")
+    print("round  t (s)      " + " ".join(names) + "   ratios to the largest")
+    for k in range(args.rounds):
+        t_target = t0 + (k + 1) * width
+        row = []
+        for sim in sims:
+            steps0 = sim.steps
+            ti.sync()
+            start = time.perf_counter()
+            sim.run(t_end=t_target, frames=1)
+            ti.sync()
+            wall = time.perf_counter() - start
+            ns = wall / (sim.n_fluid * (sim.steps - steps0)) * 1e9
+            cost[sim.n_fluid].append(ns)
+            timed_steps[sim.n_fluid] += sim.steps - steps0
+            row.append(ns)
+        ratios = " ".join(f"{ns / row[-1]:.2f}" for ns in row[:-1])
+        print(f"{k + 1:>5}  {t_target:.4f}  " + " ".join(f"{ns:>9.1f}" for ns in row) + f"   {ratios}",
+              flush=True)
+    largest = sims[-1].n_fluid
+    print("\nsize   timed steps  best ns  median ns  median ratio to the largest (same round)")
+    for sim in sims:
+        c = cost[sim.n_fluid]
+        per_round = [a / b for a, b in zip(c, cost[largest])]
+        print(f"{sim.n_fluid:>9} {timed_steps[sim.n_fluid]:>8} {min(c):>8.1f} {statistics.median(c):>10.1f} "
+              f"{statistics.median(per_round):>8.2f}  (rounds {min(per_round):.2f}-{max(per_round):.2f})")
+
+
+if __name__ == "__main__":
+    main()
