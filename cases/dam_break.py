@@ -51,9 +51,10 @@ def dam_break(
     accurate physics per unit of wall time we measured (tools/dam_break_defaults.py,
     docs/performance.md): dummy walls (three layers dx apart, pressure extrapolated from
     the fluid, Adami et al. 2012) with wall friction, density diffusion delta = 0.1, and
-    an adaptive step with Courant number 0.3 (0.55 held to t = 0.7 s at dx = 0.02 and
-    0.6 failed; 0.4 ran to t = 3 s at dx = 0.02 but once stopped at t = 2.38 s at
-    dx = 0.01, where 0.3 and 0.25 ran to the end). At
+    an adaptive step with Courant number 0.4 in 2D (0.55 held to t = 0.7 s at dx = 0.02
+    and 0.6 failed; 0.4 ran to t = 3 s at dx = 0.02, 0.01 and 0.005 without losing a
+    particle, 0.45 lost 13 at dx = 0.01; docs/performance.md) and 0.3 in 3D (0.4 not
+    measured there). At
     dx = 0.02 that gives a pressure noise of 0.017 rho g H and a surge front 0.15 from
     Koshizuka & Oka's, against 0.26 and 0.165 with the seed's physics. The column starts
     in hydrostatic equilibrium (inverse Tait).
@@ -76,15 +77,15 @@ def dam_break(
     viscosity also between fluid and wall particles with the no-slip wall velocity, a
     numerical friction that slows the front and holds water on the back wall
     (docs/accuracy.md); delta: the density diffusion coefficient (0: none); courant:
-    the adaptive step's Courant number (0.3 with dummy walls and density diffusion,
-    else the engine's 0.25). xsph: XSPH epsilon, 0 or None for none.
+    the adaptive step's Courant number (with dummy walls and density diffusion 0.4 in
+    2D and 0.3 in 3D, else the engine's 0.25). xsph: XSPH epsilon, 0 or None for none.
     """
     return _dam_break(2, dx, width, height, None, tank_width, tank_height, alpha, c0, h_factor, g,
                       kernel, integrator, t_end, frames, "dam_break", seed_physics=seed_physics, walls=walls,
                       wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, tension=tension, closed_top=closed_top)
 
 
-def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, courant=None):
+def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, courant=None, dim=2):
     """The dam break's model settings with the Nones filled in (see dam_break)."""
     walls = walls or ("lj" if seed_physics else "dummy")
     if wall_friction is None:
@@ -92,14 +93,14 @@ def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, cour
     if delta is None:
         delta = 0.0 if seed_physics else 0.1
     if courant is None and walls == "dummy" and delta:
-        courant = 0.3
+        courant = 0.4 if dim == 2 else 0.3
     return walls, wall_friction, delta, courant
 
 
 def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
                kernel, integrator, t_end, frames, name, seed_physics=False, walls=None, wall_friction=None,
                delta=None, xsph=None, courant=None, description=None, closed_top=False, tension=True):
-    walls, wall_friction, delta, courant = physics(seed_physics, walls, wall_friction, delta, courant)
+    walls, wall_friction, delta, courant = physics(seed_physics, walls, wall_friction, delta, courant, dim)
     if wall_friction and walls != "dummy":
         raise ParameterError(f"{name}: wall_friction needs walls = 'dummy' (the Lennard-Jones walls carry no "
                              "velocity to rub against)")
