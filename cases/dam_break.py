@@ -53,8 +53,8 @@ def dam_break(
     the fluid, Adami et al. 2012) with wall friction, density diffusion delta = 0.1, and
     an adaptive step with Courant number 0.4 in 2D (0.55 held to t = 0.7 s at dx = 0.02
     and 0.6 failed; 0.4 ran to t = 3 s at dx = 0.02, 0.01 and 0.005 without losing a
-    particle, 0.45 lost 13 at dx = 0.01; docs/performance.md) and 0.3 in 3D (0.4 not
-    measured there). At
+    particle, 0.45 lost 13 at dx = 0.01; docs/performance.md) and 0.3 in 3D (where 0.4
+    removed 2 particles for their density at dx = 0.05 by t = 3 s). At
     dx = 0.02 that gives a pressure noise of 0.017 rho g H and a surge front 0.15 from
     Koshizuka & Oka's, against 0.26 and 0.165 with the seed's physics. The column starts
     in hydrostatic equilibrium (inverse Tait).
