@@ -52,8 +52,8 @@ def dam_break(
     docs/performance.md): dummy walls (three layers dx apart, pressure extrapolated from
     the fluid, Adami et al. 2012) with wall friction, density diffusion delta = 0.1, and
     an adaptive step with Courant number 0.4 in 2D (0.55 held to t = 0.7 s at dx = 0.02
-    and 0.6 failed; 0.4 ran to t = 3 s at dx = 0.02, 0.01 and 0.005 without losing a
-    particle, 0.45 lost 13 at dx = 0.01; docs/performance.md) and 0.3 in 3D (where 0.4
+    and 0.6 failed; to t = 3 s 0.4 lost no particle at dx = 0.02 and 0.01 and removed 8
+    for their density at dx = 0.005, 0.45 removed 13 at dx = 0.01; docs/performance.md) and 0.3 in 3D (where 0.4
     removed 2 particles for their density at dx = 0.05 by t = 3 s). At
     dx = 0.02 that gives a pressure noise of 0.017 rho g H and a surge front 0.15 from
     Koshizuka & Oka's, against 0.26 and 0.165 with the seed's physics. The column starts
