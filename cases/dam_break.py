@@ -53,9 +53,9 @@ def dam_break(
     the fluid, Adami et al. 2012) with wall friction, density diffusion delta = 0.1, and
     an adaptive step with Courant number 0.4 in 2D (0.55 held to t = 0.7 s at dx = 0.02
     and 0.6 failed; to t = 3 s 0.4 lost no particle at dx = 0.02 and 0.01 and removed 8
-    for their density at dx = 0.005, 0.45 removed 13 at dx = 0.01; docs/performance.md) and 0.3 in 3D (where 0.4
-    removed 2 particles for their density at dx = 0.05 by t = 3 s). At
-    dx = 0.02 that gives a pressure noise of 0.017 rho g H and a surge front 0.15 from
+    for their density at dx = 0.005, 0.45 removed 13 at dx = 0.01; docs/performance.md)
+    and 0.3 in 3D (where 0.4 removed 2 particles for their density at dx = 0.05 by
+    t = 3 s). At dx = 0.02 that gives a pressure noise of 0.017 rho g H and a surge front 0.15 from
     Koshizuka & Oka's, against 0.26 and 0.165 with the seed's physics. The column starts
     in hydrostatic equilibrium (inverse Tait).
 
@@ -69,8 +69,9 @@ def dam_break(
     run summary accounts for their mass; docs/stability.md).
 
     tension: True (default, also with the seed's physics), the Tait equation as it is
-    (negative pressure in a stretched fluid); False, ``Tait(tension=False)``: density held at >= rho0, so
-    pressure >= 0 (a liquid that cannot be stretched; docs/stability.md).
+    (negative pressure in a stretched fluid); False, ``Tait(tension=False)``: density
+    held at >= rho0, so pressure >= 0 (a liquid that cannot be stretched;
+    docs/stability.md).
 
     Each of the following, left at None, follows the model (the defaults above, or
     the seed's): walls "dummy" or "lj"; wall_friction (dummy walls only): artificial

@@ -9,9 +9,9 @@ state is kept as a checkpoint under `--cache`, so a later run starts there at on
 all sizes advance the same simulated interval in `--rounds` rounds, one size after the
 other within each round, so that sizes are compared within the same minutes of this
 shared machine (the checkpoints hold the case as it was when they were written: delete
-the cache after changing the case's defaults). Each round prints ns per fluid particle-step for every size and each
-size's ratio to the largest; the summary gives the best round of each size and the
-median of the per-round ratios.
+the cache after changing the case's defaults). Each round prints ns per fluid
+particle-step for every size and each size's ratio to the largest; the summary gives
+the best round of each size and the median of the per-round ratios.
 
     python tools/bench_flatness.py                       # 20k, 100k, 1M; t = 0.1 -> 0.11 s
     python tools/bench_flatness.py --sizes 20000 100000 --t-start 0.05 --interval 0.02
@@ -64,7 +64,7 @@ def main(argv=None):
     args = p.parse_args(argv)
     taisph.engine.runtime.init(threads=args.threads)
     print(f"preparing {args.sizes} at t = {args.t_start:g} s (checkpoints in {args.cache})", flush=True)
-    sims = [prepared(n, args.t_start, args.cache, args.threads) for n in args.sizes]
+    sims = [prepared(n, args.t_start, args.cache, args.threads) for n in sorted(args.sizes)]
     if args.rounds == 0:
         return
     width = args.interval / args.rounds

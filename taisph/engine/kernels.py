@@ -149,11 +149,17 @@ def _derive(solver):
 
 
 @ti.func
+def _idle(s: ti.template()) -> bool:
+    """Is this launch idle (the clock already stands at the target;
+    :meth:`taisph.engine.timestep.TimeStep.begin_step`)? Then it changes nothing."""
+    return s.status[st.IDLE] > 0.0
+
+
+@ti.func
 def _particles(s: ti.template()):
-    """How many particles this launch works on: none if it is idle (the clock already
-    stands at the target; :meth:`taisph.engine.timestep.TimeStep.begin_step`)."""
+    """How many particles this launch works on: none if it is idle."""
     n = s.sizes[4]
-    if s.status[st.IDLE] > 0.0:
+    if _idle(s):
         n = 0
     return n
 
@@ -181,7 +187,7 @@ def sort_body(solver, serial: bool):
             grid.count(s, i, x)
         ti.loop_config(serialize=True)
         for _ in range(1):
-            if s.status[st.IDLE] == 0.0:
+            if not _idle(s):
                 grid.scan(s)
         rebuild = grid.rebuilding(s)
         ti.loop_config(serialize=serial)
