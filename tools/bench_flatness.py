@@ -15,6 +15,11 @@ the best round of each size and the median of the per-round ratios.
 
     python tools/bench_flatness.py                       # 20k, 100k, 1M; t = 0.1 -> 0.11 s
     python tools/bench_flatness.py --sizes 20000 100000 --t-start 0.05 --interval 0.02
+    python tools/bench_flatness.py --reference           # the hand-fused loop's flatness too
+
+With ``--reference`` the hand-fused loop of ``tools/bench_reference.py`` starts from each
+size's state and, in every round, runs as many steps as the engine just took: its own
+flatness, in the same minutes, is what this machine allows a loop of this physics.
 """
 
 import argparse
@@ -29,7 +34,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import taichi as ti
 
 import taisph
-from bench_reference import flagship
+from bench_reference import flagship, setup as reference_setup
 
 
 def prepared(n_fluid: int, t_start: float, cache: Path, threads):
@@ -61,6 +66,9 @@ def main(argv=None):
     p.add_argument("--threads", type=int, default=None)
     p.add_argument("--cache", type=Path, default=Path("bench_flatness_cache"),
                    help="folder for the checkpoints at t-start")
+    p.add_argument("--reference", action="store_true",
+                   help="also time the hand-fused reference (tools/bench_reference.py) from each size's "
+                        "state, as many steps as the engine took, right after it")
     args = p.parse_args(argv)
     taisph.engine.runtime.init(threads=args.threads)
     print(f"preparing {args.sizes} at t = {args.t_start:g} s (checkpoints in {args.cache})", flush=True)
@@ -70,16 +78,24 @@ def main(argv=None):
     width = args.interval / args.rounds
     for sim in sims:  # compile and warm up outside the timing: run() itself pays a first-call cost
         sim.run(t_end=sim.time + 0.1 * width, frames=1)
+    refs = {}
+    if args.reference:  # the hand-fused loop, started from each size's state
+        for sim in sims:
+            refs[sim.n_fluid] = reference_setup(sim.scene, real=sim.runtime.real, start_from=sim)
+            refs[sim.n_fluid].step(2)
     ti.sync()
     t0 = max(sim.time for sim in sims)
     cost = {sim.n_fluid: [] for sim in sims}
+    ref_cost = {sim.n_fluid: [] for sim in sims}
     timed_steps = {sim.n_fluid: 0 for sim in sims}
     names = [f"{sim.n_fluid:>9}" for sim in sims]
-    print(f"\nns per fluid particle-step, each size over the same {width:g} s of simulated time per round")
-    print("round  t (s)      " + " ".join(names) + "   ratios to the largest")
+    print(f"\nns per fluid particle-step, each size over the same {width:g} s of simulated time per round"
+          + ("; the reference (ref) runs as many steps as the engine did, from its own state" if refs else ""))
+    print("round  t (s)      " + " ".join(names) + "   ratios to the largest"
+          + ("   ref: " + " ".join(names) + "   ratios" if refs else ""))
     for k in range(args.rounds):
         t_target = t0 + (k + 1) * width
-        row = []
+        row, ref_row = [], []
         for sim in sims:
             steps0 = sim.steps
             ti.sync()
@@ -87,21 +103,37 @@ def main(argv=None):
             sim.run(t_end=t_target, frames=1)
             ti.sync()
             wall = time.perf_counter() - start
-            ns = wall / (sim.n_fluid * (sim.steps - steps0)) * 1e9
+            steps = sim.steps - steps0
+            ns = wall / (sim.n_fluid * steps) * 1e9
             cost[sim.n_fluid].append(ns)
-            timed_steps[sim.n_fluid] += sim.steps - steps0
+            timed_steps[sim.n_fluid] += steps
             row.append(ns)
-        ratios = " ".join(f"{ns / row[-1]:.2f}" for ns in row[:-1])
-        print(f"{k + 1:>5}  {t_target:.4f}  " + " ".join(f"{ns:>9.1f}" for ns in row) + f"   {ratios}",
-              flush=True)
+            if refs:
+                ref = refs[sim.n_fluid]
+                start = time.perf_counter()
+                ref.step(steps)
+                ti.sync()
+                ns = (time.perf_counter() - start) / (ref.fluid * steps) * 1e9
+                ref_cost[sim.n_fluid].append(ns)
+                ref_row.append(ns)
+        line = f"{k + 1:>5}  {t_target:.4f}  " + " ".join(f"{ns:>9.1f}" for ns in row)
+        line += "   " + " ".join(f"{ns / row[-1]:.2f}" for ns in row[:-1])
+        if refs:
+            line += "        " + " ".join(f"{ns:>9.1f}" for ns in ref_row)
+            line += "   " + " ".join(f"{ns / ref_row[-1]:.2f}" for ns in ref_row[:-1])
+        print(line, flush=True)
     largest = sims[-1].n_fluid
-    print("\nsize   timed steps  best ns  median ns  median ratio to the largest (same round)")
-    for sim in sims:
-        c = cost[sim.n_fluid]
-        per_round = [a / b for a, b in zip(c, cost[largest])]
-        print(f"{sim.n_fluid:>9} {timed_steps[sim.n_fluid]:>8} {min(c):>8.1f} {statistics.median(c):>10.1f} "
-              f"{statistics.median(per_round):>8.2f}  (rounds {min(per_round):.2f}-{max(per_round):.2f})")
-
+    for label, table in (("engine", cost), ("reference", ref_cost)):
+        if not table[largest]:
+            continue
+        print(f"\n{label}: size   timed steps  best ns  median ns  median ratio to the largest (same round)"
+              "  best / best")
+        for sim in sims:
+            c = table[sim.n_fluid]
+            per_round = [a / b for a, b in zip(c, table[largest])]
+            print(f"{sim.n_fluid:>9} {timed_steps[sim.n_fluid]:>8} {min(c):>8.1f} {statistics.median(c):>10.1f} "
+                  f"{statistics.median(per_round):>8.2f}  (rounds {min(per_round):.2f}-{max(per_round):.2f})"
+                  f"  {min(c) / min(table[largest]):.2f}")
 
 if __name__ == "__main__":
     main()

@@ -35,9 +35,11 @@ import taichi as ti
 FLUID, WALL = 0, 1
 
 
-def setup(scene, real=ti.f64):
+def setup(scene, real=ti.f64, start_from=None):
     """Fields and kernels of the reference for `scene` (a taisph dam break); returns an
-    object with step(n) and state()."""
+    object with step(n) and state(). `start_from`, if given, is a :class:`taisph.Simulation`
+    of that scene: the reference starts from its time, positions, velocities and
+    densities (its rates are evaluated there, as at t = 0), so both run the same flow."""
     dim = scene.dim
     n = scene.n
     water = scene.materials[0]
@@ -299,12 +301,14 @@ def setup(scene, real=ti.f64):
             order = np.argsort(ids.to_numpy())
             return clock.to_numpy()[T], x.to_numpy()[order], v.to_numpy()[order], rho.to_numpy()[order]
 
-    x.from_numpy(scene.position)
-    v.from_numpy(scene.velocity)
-    rho.from_numpy(scene.density)
+    x.from_numpy(scene.position if start_from is None else start_from.positions())
+    v.from_numpy(scene.velocity if start_from is None else start_from.velocities())
+    rho.from_numpy(scene.density if start_from is None else start_from.density())
+    if start_from is not None and not np.all(start_from.kinds() == scene.kind):
+        raise ValueError("the simulation has removed particles: the reference cannot start from it")
     kind.from_numpy(scene.kind)
     ids.from_numpy(np.arange(n, dtype=np.int32))
-    clock.from_numpy(np.zeros(4))
+    clock.from_numpy(np.array([0.0 if start_from is None else start_from.time, 0.0, 0.0, 0.0]))
     Reference.step(1, advance=0)  # bootstrap as the engine does: rates and maxima at t = 0
     return Reference
 

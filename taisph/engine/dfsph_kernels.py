@@ -52,8 +52,7 @@ class _DensityVisitor:
             mj = s.Ss[q.mass, j]
             coef = mj * s.params[self.p_grad_norm] * self.kern.g(x)
             g = coef * rij
-            f = self.kern.f(x)
-            acc.rho += mj * s.params[self.p_w_norm] * f
+            acc.rho += mj * s.params[self.p_w_norm] * self.kern.f(x)
             vi = s.Sv[q.velocity, i]
             acc.div += (vi - s.Sv[q.velocity, j]).dot(g)
             if kind == FLUID:
@@ -61,11 +60,28 @@ class _DensityVisitor:
                 acc.g2 += g.dot(g)
             else:
                 acc.gb += g
-                if ti.static(self.wall_velocity):  # the wall's no-slip velocity: sum_f W v_f, sum_f W
-                    ti.atomic_add(s.Ss[q.wall_weight, j], f)
-                    ti.atomic_add(s.Sv[q.wall_velocity, j], f * vi)
             self.plist.store(s, i, acc.k, j, coef)
             acc.k += 1
+
+
+@ti.data_oriented
+class _WallGather:
+    """Step 1's visitor of a wall particle: the sums of its no-slip velocity over its
+    fluid neighbours, sum_f W_wf v_f and sum_f W_wf (gathered per wall particle rather
+    than scattered by the fluid with atomic adds, whose order, and so round-off, varied
+    from run to run with several threads)."""
+
+    def __init__(self, solver):
+        self.q = solver.layout.q
+        self.kern = solver.kernel
+        self.p_inv_h = solver.param_rows["inv_h"]
+
+    @ti.func
+    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
+        if s.Si[self.q.kind, j] == FLUID:
+            w = self.kern.f(ti.sqrt(r2) * s.params[self.p_inv_h])
+            acc.w += w
+            acc.v += w * s.Sv[self.q.velocity, j]
 
 
 @ti.data_oriented
@@ -118,7 +134,9 @@ class Bodies:
         dim, real = self.dim, self.real
         vec = ti.types.vector(dim, real)
         Acc = ti.types.struct(rho=real, div=real, g2=real, gf=vec, gb=vec, k=ti.i32)
+        WallSums = ti.types.struct(w=real, v=vec)
         visitor = _DensityVisitor(self.solver, plist)
+        gather = _WallGather(self.solver)
         kern = self.solver.kernel
         p = self.p
         local = self.local
@@ -129,11 +147,6 @@ class Bodies:
         @ti.func
         def body(s_mem: ti.template(), t_target):
             ti.static(kernels._traced("dfsph", "density"))
-            if ti.static(wall_velocity):
-                for i in range(s_mem.sizes[4]):
-                    if s_mem.Si[q.kind, i] != FLUID:
-                        s_mem.Ss[q.wall_weight, i] = 0.0
-                        s_mem.Sv[q.wall_velocity, i] = ti.Vector.zero(real, dim)
             for i in range(s_mem.sizes[4]):
                 kind = s_mem.Si[q.kind, i]
                 if kind == FLUID:
@@ -161,6 +174,13 @@ class Bodies:
                     s_mem.Sv[q.acc_p, i] = ti.Vector.zero(real, dim)
                     s_mem.Sv[q.vstar, i] = s_mem.Sv[q.velocity, i]
                     x.pairs.count[i] = 0
+                    if ti.static(wall_velocity):  # the wall's no-slip sums, for step 3
+                        s = ti.static(s_mem._replace(params=local(s_mem)))
+                        sums = WallSums(w=0.0, v=ti.Vector.zero(real, dim))
+                        if kind == WALL:
+                            grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p["support2"]], gather, sums)
+                        s.Ss[q.wall_weight, i] = sums.w
+                        s.Sv[q.wall_velocity, i] = sums.v
             # the divergence error before any iteration (result[1]): within the tolerance, the
             # divergence solve has nothing to do (the host skips it, and ``middle`` with it)
             for c in range(CHUNKS):
@@ -292,7 +312,7 @@ class Bodies:
                         s_mem.Sv[q.velocity, i] += dt * acceleration(s_mem, i, q.kappa_v)
             if ti.static(wall_velocity):
                 # no-slip velocity of the walls (Adami et al. 2012 eq. 22-23), from the sums
-                # the fluid scattered in step 1: v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf
+                # gathered in step 1: v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf
                 for i in range(s_mem.sizes[4]):
                     if s_mem.Si[q.kind, i] == WALL:
                         ghost = s_mem.Sv[q.velocity, i]
