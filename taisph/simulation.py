@@ -14,7 +14,7 @@ import taichi as ti
 
 from .engine import assembly, runtime, timestep
 from .engine import status as st
-from .engine.layout import FLUID, REMOVED, WALL
+from .engine.layout import FLUID, WALL
 from .engine.diagnosis import SimulationError  # noqa: F401 (taisph.simulation.SimulationError)
 from .engine.state import State
 from .engine.timestep import Controls
@@ -261,13 +261,13 @@ class Simulation:
         wall = _time.perf_counter() - start
         steps = self.steps - steps0
         dt_min, dt_mean, dt_max = self.state.run_statistics(dt_sum0, steps)
-        kinds, masses = self.kinds(), self.masses()
+        fluid_mass, removed_mass = self.state.fluid_and_removed_mass()
         return RunSummary(self.n, self.n_fluid, steps, self.time, wall,
                           frame_writer.frame - frames0 if frame_writer else 0,
                           str(frame_writer.folder) if frame_writer else None, dt_min, dt_mean, dt_max,
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
-                          float(masses[kinds == FLUID].sum()), float(masses[kinds == REMOVED].sum()),
+                          fluid_mass, removed_mass,
                           self.pressure_solve.stats.summary() if self.solver.dfsph else None,
                           self.state.read_flag(st.OUT_OF_RANGE_COUNT))
 

@@ -99,6 +99,21 @@ def test_escaping_particles_can_be_removed_and_counted():
     assert "36 particles left the domain" in str(summary)
 
 
+def test_the_summary_masses_follow_removals_from_one_run_call_to_the_next():
+    """The run summary's fluid and removed masses are cached between removals: over
+    several run() calls while the block falls out of its domain (removed as it goes),
+    each summary equals the sums over the particles' masses by kind at that moment."""
+    sim = taisph.Simulation(free_block(), remove_escaped=True)
+    seen = set()
+    for t_end in (0.3, 0.5, 0.55, 0.6, 0.65, 0.7, 1.0):
+        summary = sim.run(t_end, frames=1)
+        masses, kinds = sim.masses(), sim.kinds()
+        assert summary.fluid_mass == pytest.approx(masses[kinds == FLUID].sum(), rel=1e-12, abs=1e-12)
+        assert summary.removed_mass == pytest.approx(masses[kinds == REMOVED].sum(), rel=1e-12, abs=1e-12)
+        seen.add(int(np.count_nonzero(kinds == REMOVED)))
+    assert 0 in seen and 36 in seen and len(seen) >= 3  # before, during and after the removals
+
+
 def test_open_faces_and_the_scenes_own_removal():
     """A block falls 4.9 m in 1 s, out through the bottom of its 2 m domain: with the
     bottom open ("-y") every particle is still simulated at the end (mass all there,

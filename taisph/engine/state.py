@@ -18,7 +18,7 @@ from . import fields as fieldpool
 from . import neighbours, pairs, runtime
 from . import status as st
 from .assembly import Args
-from .layout import REMOVED
+from .layout import FLUID, REMOVED
 
 
 class State:
@@ -38,6 +38,8 @@ class State:
         self.has_good = False
         self.ncount.fill(-1)
         self._write_sizes()
+        self._masses_key = None  # (host writes, removed count) of the cached mass sums
+        self._host_writes = 0
 
     def __getattr__(self, name):
         """The fields by name (``state.params``, ``state.ncount``...: :class:`Args`)."""
@@ -101,6 +103,7 @@ class State:
 
     def set_state(self, vec, sca, ints, buffers=None):
         """Write (vectors, scalars, integers), in memory order, to C (or `buffers`)."""
+        self._host_writes += 1
         for field, data in zip(buffers or self.C, (vec, sca, ints)):
             field.from_numpy(self._padded(np.ascontiguousarray(data)))
 
@@ -192,6 +195,22 @@ class State:
         buffers = self.fields.good if good else self.C
         vec, sca, ints = (f.to_numpy()[:, : self.n] for f in buffers)
         return vec, sca, ints
+
+    def fluid_and_removed_mass(self) -> tuple:
+        """(mass of the fluid particles, mass of the removed ones), for a run's summary.
+
+        On the device only a removal changes a particle's kind, and nothing changes a
+        mass, so the sums are recomputed only after a removal (the removed count moved)
+        or a write from the host; reading the whole state back for them cost 5 ms per
+        ``run()`` call at 20k particles and 0.3-0.6 s at 1M."""
+        key = (self._host_writes, self.read_flag(st.REMOVED_COUNT))
+        if key != self._masses_key:
+            L, n = self.solver.layout, self.n
+            mass = self.C[1].to_numpy()[L.q.mass, :n].astype(float)
+            kind = self.C[2].to_numpy()[L.q.kind, :n]
+            self._masses = (float(mass[kind == FLUID].sum()), float(mass[kind == REMOVED].sum()))
+            self._masses_key = key
+        return self._masses
 
     def to_numpy(self, good: bool = False):
         """(vectors, scalars, integers) of C (or of the last good copy) in particle-id
