@@ -135,5 +135,6 @@ def main(argv=None):
                   f"{statistics.median(per_round):>8.2f}  (rounds {min(per_round):.2f}-{max(per_round):.2f})"
                   f"  {min(c) / min(table[largest]):.2f}")
 
+
 if __name__ == "__main__":
     main()
