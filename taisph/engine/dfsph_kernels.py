@@ -1,15 +1,15 @@
 """The kernel bodies of a DFSPH step (:mod:`.dfsph` has the method, its equations and
-the host side that iterates the solves): step 1's neighbour visitor (density, the
-factor alpha, D rho/Dt and the pair list), the non-pressure pass over the pair list,
-and :class:`Bodies`, the kernels of one field set.
+the host side that iterates the solves): :class:`Bodies`, the kernels of one field set.
+What one neighbour contributes to each sum is in :mod:`.dfsph_visitors`.
 """
 
 import taichi as ti
 
-from . import kernels, pairs
+from . import guards, kernels, pairs
 from . import status as st
 from .layout import FLUID, WALL
 from .dfsph import CHUNKS
+from .dfsph_visitors import DensityVisitor, NonPressure, WallGather
 
 
 @ti.func
@@ -28,88 +28,6 @@ def _mean_over_chunks(x: ti.template(), slot: ti.template()):
         total += x.part[c, 0]
         fluid += x.part[c, 1]
     x.result[slot] = total / ti.max(fluid, 1.0)
-
-
-@ti.data_oriented
-class _DensityVisitor:
-    """Step 1's neighbour visitor: density, the factor's sums, D rho/Dt, the pair list."""
-
-    def __init__(self, solver, plist):
-        self.q = solver.layout.q
-        self.kern = solver.kernel
-        self.plist = plist
-        self.wall_velocity = "wall_velocity" in solver.layout.vectors
-        self.p_inv_h = solver.param_rows["inv_h"]
-        self.p_w_norm = solver.param_rows["w_norm"]
-        self.p_grad_norm = solver.param_rows["grad_norm"]
-
-    @ti.func
-    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
-        q = ti.static(self.q)
-        kind = s.Si[q.kind, j]
-        if kind == FLUID or kind == WALL:
-            x = ti.sqrt(r2) * s.params[self.p_inv_h]
-            mj = s.Ss[q.mass, j]
-            coef = mj * s.params[self.p_grad_norm] * self.kern.g(x)
-            g = coef * rij
-            acc.rho += mj * s.params[self.p_w_norm] * self.kern.f(x)
-            vi = s.Sv[q.velocity, i]
-            acc.div += (vi - s.Sv[q.velocity, j]).dot(g)
-            if kind == FLUID:
-                acc.gf += g
-                acc.g2 += g.dot(g)
-            else:
-                acc.gb += g
-            self.plist.store(s, i, acc.k, j, coef)
-            acc.k += 1
-
-
-@ti.data_oriented
-class _WallGather:
-    """Step 1's visitor of a wall particle: the sums of its no-slip velocity over its
-    fluid neighbours, sum_f W_wf v_f and sum_f W_wf (gathered per wall particle rather
-    than scattered by the fluid with atomic adds, whose order, and so round-off, varied
-    from run to run with several threads)."""
-
-    def __init__(self, solver):
-        self.q = solver.layout.q
-        self.kern = solver.kernel
-        self.p_inv_h = solver.param_rows["inv_h"]
-
-    @ti.func
-    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
-        if s.Si[self.q.kind, j] == FLUID:
-            w = self.kern.f(ti.sqrt(r2) * s.params[self.p_inv_h])
-            acc.w += w
-            acc.v += w * s.Sv[self.q.velocity, j]
-
-
-@ti.data_oriented
-class _NonPressure:
-    """Step 3's visitor of the pair list: the scene's pair terms (as the weakly
-    compressible force pass sums them) and the walls' hydrostatic head."""
-
-    def __init__(self, solver):
-        self.q = solver.layout.q
-        self.terms = [t for t in solver.terms if t.has_pair]
-        self.p_gravity = solver.param_rows.get("gravity")
-        self.head = self.p_gravity is not None
-        self.p_head = solver.param_rows["dfsph_wall_head"]
-
-    @ti.func
-    def visit(self, s: ti.template(), i, j, rij, r2, coef, rates: ti.template()):
-        """Pair (i, j) of the list, with coef = m_j F(r_ij) (grad_i W_ij = F r_ij): the
-        gradient needs no kernel evaluation (it cost the non-pressure pass 30 %)."""
-        r = ti.sqrt(r2)
-        grad = (coef / s.Ss[self.q.mass, j]) * rij
-        for t in ti.static(self.terms):
-            ti.static(kernels._traced(t.name, "pair"))
-            t.pair(s, i, j, rij, r, grad, rates)
-        if ti.static(self.head):
-            if s.Si[self.q.kind, j] == WALL and s.params[self.p_head] > 0.0:
-                # p_wall - p_i = rho_i g . (x_wall - x_i): a_i -= m_b (that / rho_i^2) grad W
-                g = ti.Vector([s.params[self.p_gravity + d] for d in ti.static(range(rij.n))])
-                rates.acc += (coef * g.dot(rij) / s.Ss[self.q.density, i]) * rij
 
 
 class Bodies:
@@ -135,8 +53,8 @@ class Bodies:
         vec = ti.types.vector(dim, real)
         Acc = ti.types.struct(rho=real, div=real, g2=real, gf=vec, gb=vec, k=ti.i32)
         WallSums = ti.types.struct(w=real, v=vec)
-        visitor = _DensityVisitor(self.solver, plist)
-        gather = _WallGather(self.solver)
+        visitor = DensityVisitor(self.solver, plist)
+        gather = WallGather(self.solver)
         kern = self.solver.kernel
         p = self.p
         local = self.local
@@ -156,7 +74,7 @@ class Bodies:
                               gf=ti.Vector.zero(real, dim), gb=ti.Vector.zero(real, dim), k=0)
                     grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p["support2"]], visitor, acc)
                     if not plist.close(s, i, acc.k):
-                        _trip(s, q, i, st.CROWDED)
+                        guards.trip(s, q, i, st.CROWDED)
                     s.Ss[q.density, i] = acc.rho
                     phi = s.params[p["dfsph_wall_mirror"]]
                     gsum = acc.gf + phi * acc.gb
@@ -294,7 +212,7 @@ class Bodies:
         p = self.p
         local = self.local
         acceleration = self._acceleration()
-        visitor = _NonPressure(solver)
+        visitor = NonPressure(solver)
         body_terms = [t for t in solver.terms if t.has_body]
         Rates = solver.Rates
         rho0_col = solver.eos.m.rho0
@@ -406,16 +324,4 @@ class Bodies:
                     integ.advance_wall(s, i, dt)
 
         return body
-
-
-@ti.func
-def _trip(s: ti.template(), q: ti.template(), i, code):
-    """Set a guard flag for particle i (as :meth:`taisph.engine.guards.Guards.check`)."""
-    if s.status[st.FROZEN] == 0.0:
-        ti.atomic_or(s.flags[st.CODES], code)
-        k = ti.atomic_add(s.flags[st.COUNT], 1)
-        if k < st.MAX_RECORDED:
-            s.flags[st.RECORDS + 2 * k] = s.Si[q.id, i]
-            s.flags[st.RECORDS + 2 * k + 1] = code
-
 

@@ -71,6 +71,18 @@ def parameter_values(scene, controls) -> dict:
     )
 
 
+@ti.func
+def trip(s: ti.template(), q: ti.template(), i, code):
+    """Record guard failure `code` of sorted particle i (its id and the code, up to
+    ``MAX_RECORDED`` particles), unless the state is already frozen for a diagnosis."""
+    if s.status[st.FROZEN] == 0.0:
+        ti.atomic_or(s.flags[st.CODES], code)
+        k = ti.atomic_add(s.flags[st.COUNT], 1)
+        if k < st.MAX_RECORDED:
+            s.flags[st.RECORDS + 2 * k] = s.Si[q.id, i]
+            s.flags[st.RECORDS + 2 * k + 1] = code
+
+
 @ti.data_oriented
 class Guards:
     def __init__(self, dim, layout, param_rows, eos, periodic, compression_only=False):
@@ -137,12 +149,8 @@ class Guards:
                 code = 0
             else:  # the limit is reached: this one stops the run (and is not counted)
                 ti.atomic_sub(s.flags[st.OUT_OF_RANGE_COUNT], 1)
-        if code != 0 and s.status[st.FROZEN] == 0.0:
-            ti.atomic_or(s.flags[st.CODES], code)
-            k = ti.atomic_add(s.flags[st.COUNT], 1)
-            if k < st.MAX_RECORDED:
-                s.flags[st.RECORDS + 2 * k] = s.Si[q.id, i]
-                s.flags[st.RECORDS + 2 * k + 1] = code
+        if code != 0:
+            trip(s, q, i, code)
 
 
 def recorded(flags: np.ndarray) -> np.ndarray:

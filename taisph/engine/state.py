@@ -38,7 +38,7 @@ class State:
         self.has_good = False
         self.ncount.fill(-1)
         self._write_sizes()
-        self._masses_key = None  # (host writes, removed count) of the cached mass sums
+        self._masses, self._masses_key = None, None  # cached mass sums and their (host writes, removed count)
         self._host_writes = 0
 
     def __getattr__(self, name):
