@@ -1,14 +1,15 @@
 """Start-up plane Couette flow: the upper wall starts moving, periodic along the channel (Morris, Fox & Zhu 1997)."""
 
-from taisph.parameters import (at_least, checked, finite, integer, known_integrator, known_kernel, optional,
-                               positive, smoothing_factor)
+from taisph.scene.parameters import (checked, diffusion_delta, end_time, finite, frame_count, known_integrator,
+                                     known_kernel, optional, positive, reference_density, smoothing_factor,
+                                     speed_of_sound)
 
 from .poiseuille import _channel
 
 
-@checked(dx=positive, L=positive, nu=positive, V0=finite, rho0=positive, c0=positive, h_factor=smoothing_factor,
-         kernel=known_kernel, integrator=known_integrator, delta=optional(at_least(0)), t_end=positive,
-         frames=integer(at_least=1))
+@checked(dx=positive, L=positive, nu=positive, V0=finite, rho0=reference_density, c0=speed_of_sound,
+         h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator, delta=optional(diffusion_delta),
+         t_end=end_time, frames=frame_count)
 def couette(
     dx: float = 5e-5,
     L: float = 1e-3,

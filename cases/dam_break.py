@@ -6,20 +6,23 @@ import numpy as np
 
 from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice, wall_layers
-from taisph.parameters import (ParameterError, at_least, between, checked, courant_number, flag, integer,
-                               known_integrator, known_kernel, lattice_count, one_of, optional, positive,
-                               smoothing_factor)
+from taisph.scene.names import UP
+from taisph.scene.parameters import (ParameterError, checked, courant_number, diffusion_delta, end_time, flag,
+                                     frame_count, gravity_magnitude, known_integrator, known_kernel, lattice_count,
+                                     one_of, optional, positive, smoothing_factor, speed_of_sound, viscosity_alpha,
+                                     xsph_epsilon)
+from taisph.scene.water import hydrostatic_density, lennard_jones_strength, sound_speed
 from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall, PressureGradient, XSPH
-from taisph.eos import Tait, tait
+from taisph.eos import Tait
 
 WALL_MODELS = ("lj", "dummy")
 
 
 @checked(dx=positive, width=positive, height=positive, tank_width=positive, tank_height=positive,
-         alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
+         alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude,
          kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
-         wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
-         courant=optional(courant_number), tension=flag, t_end=positive, frames=integer(at_least=1), closed_top=flag)
+         wall_friction=optional(flag), delta=optional(diffusion_delta), xsph=optional(xsph_epsilon),
+         courant=optional(courant_number), tension=flag, t_end=end_time, frames=frame_count, closed_top=flag)
 def dam_break(
     dx: float = 0.02,
     width: float = 1.0,
@@ -48,7 +51,7 @@ def dam_break(
     Defaults: 1 m x 2 m column, 4 m tank, dx = 0.02 m (5000 fluid particles), cubic
     spline with h = 1.3 dx, predictor-corrector, Monaghan viscosity alpha = 0.1, Tait
     water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed), and the most
-    accurate physics per unit of wall time we measured (tools/dam_break_defaults.py,
+    accurate physics per unit of wall time we measured (python -m tools.studies.dam_break_defaults,
     docs/performance.md): dummy walls (three layers dx apart, pressure extrapolated from
     the fluid, Adami et al. 2012) with wall friction, density diffusion delta = 0.1, and
     an adaptive step with Courant number 0.4 in 2D (0.55 held to t = 0.7 s at dx = 0.02
@@ -115,12 +118,11 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
     # much memory as the tank filled at dx
     lattice_count(name, "the tank", dx, ("tank_width", tank_width), ("tank_height", tank_height),
                   *([("depth", depth)] if dim == 3 else []))
-    c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
+    c0 = sound_speed(g, height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
     eos = Tait(tension=tension)
-    up = 1  # the vertical axis: y in 2D and in 3D (x along the flow, z across in 3D)
-    gravity = [0.0] * dim
-    gravity[up] = -g
+    gravity = [0.0] * dim  # y up in 2D and in 3D (x along the flow, z across in 3D)
+    gravity[UP] = -g
     dummy = walls == "dummy"
     terms = [
         Continuity(walls=dummy),
@@ -132,7 +134,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         terms.append(AdamiWall())
     else:
         r0 = dx / 2.0
-        terms.append(LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0))
+        terms.append(LennardJonesWall(lj_strength=lennard_jones_strength(g, height, r0), lj_cutoff=r0))
     if delta:  # None or 0: no term
         terms.append(DensityDiffusion(delta=delta))
     if xsph:  # None or 0: no term
@@ -148,7 +150,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         smoothing_length=h,
         # the neighbour grid covers the tank and a margin above it; particles beyond are
         # still simulated exactly (only more slowly)
-        domain=(np.array(lo) - dx, np.array(tank_hi) + dx + np.eye(dim)[up] * 0.5 * tank_height),
+        domain=(np.array(lo) - dx, np.array(tank_hi) + dx + np.eye(dim)[UP] * 0.5 * tank_height),
         open_faces=() if closed_top else ("+y",),
         remove_escaped=True,
         courant=courant,
@@ -162,15 +164,13 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
         description=description or f"{width:g} m x {height:g} m water column collapsing in a {tank_width:g} m tank",
     )
     fluid = lattice(lo, column_hi, dx)
-    depth_below_surface = height - fluid[:, up]
-    rho = tait.density(water.rho0 * g * depth_below_surface, water.rho0, water.c0, water.gamma)
-    scene.add_fluid(fluid, density=rho)
+    scene.add_fluid(fluid, density=hydrostatic_density(water, g, height - fluid[:, UP]))
     if dummy:
         layers = math.ceil(scene.support_radius / dx - 1e-9)
         pad = layers * dx
-        top = np.eye(dim)[up] * (0.5 * tank_height if not closed_top else 0.0)
+        top = np.eye(dim)[UP] * (0.5 * tank_height if not closed_top else 0.0)
         scene.domain = (np.array(lo) - pad - dx, np.array(tank_hi) + pad + dx + top)
-        scene.add_walls(wall_layers(lo, tank_hi, dx, layers, vertical_axis=up, open_top=not closed_top))
+        scene.add_walls(wall_layers(lo, tank_hi, dx, layers, vertical_axis=UP, open_top=not closed_top))
     else:
-        scene.add_walls(box_walls(lo, tank_hi, dx / 2.0, vertical_axis=up, open_top=not closed_top))
+        scene.add_walls(box_walls(lo, tank_hi, dx / 2.0, vertical_axis=UP, open_top=not closed_top))
     return scene

@@ -1,16 +1,17 @@
 """3D dam break: a water column collapses in a narrow tank (x along the flow, y up, z across)."""
 
-from taisph.parameters import (at_least, between, checked, courant_number, flag, integer, known_integrator,
-                               known_kernel, one_of, optional, positive, smoothing_factor)
+from taisph.scene.parameters import (checked, courant_number, diffusion_delta, end_time, flag, frame_count,
+                                     gravity_magnitude, known_integrator, known_kernel, one_of, optional, positive,
+                                     smoothing_factor, speed_of_sound, viscosity_alpha, xsph_epsilon)
 
 from .dam_break import WALL_MODELS, _dam_break
 
 
 @checked(dx=positive, width=positive, height=positive, depth=positive, tank_width=positive, tank_height=positive,
-         alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive,
+         alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude,
          kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
-         wall_friction=optional(flag), delta=optional(at_least(0)), xsph=optional(between(0, 1)),
-         courant=optional(courant_number), tension=flag, t_end=positive, frames=integer(at_least=1), closed_top=flag)
+         wall_friction=optional(flag), delta=optional(diffusion_delta), xsph=optional(xsph_epsilon),
+         courant=optional(courant_number), tension=flag, t_end=end_time, frames=frame_count, closed_top=flag)
 def dam_break_3d(
     dx: float = 0.05,
     width: float = 1.0,

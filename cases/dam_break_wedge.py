@@ -1,22 +1,22 @@
 """2D dam break flowing over a triangular wedge on the tank floor (after Monaghan 1994; seed Figure 2)."""
 
-import math
-
 import numpy as np
 
 from taisph.geometry import polyline
 from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
-from taisph.eos import tait
-from taisph.parameters import (ParameterError, at_least, checked, integer, known_integrator, known_kernel,
-                               lattice_count, optional, positive, smoothing_factor)
+from taisph.scene.names import UP
+from taisph.scene.water import hydrostatic_density, lennard_jones_strength, sound_speed
+from taisph.scene.parameters import (ParameterError, checked, end_time, frame_count, gravity_magnitude,
+                                     known_integrator, known_kernel, lattice_count, optional, positive,
+                                     smoothing_factor, speed_of_sound, viscosity_alpha)
 
 
 @checked(dx=positive, width=positive, height=positive, tank_width=positive, tank_height=positive,
-         wedge_start=positive, wedge_base=positive, wedge_height=positive, alpha=at_least(0),
-         c0=optional(positive), h_factor=smoothing_factor, g=positive, kernel=known_kernel,
-         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
+         wedge_start=positive, wedge_base=positive, wedge_height=positive, alpha=viscosity_alpha,
+         c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel,
+         integrator=known_integrator, t_end=end_time, frames=frame_count)
 def dam_break_wedge(
     dx: float = 0.02,
     width: float = 1.0,
@@ -56,7 +56,7 @@ def dam_break_wedge(
                              f"{wedge_height:g} m) must fit under tank_height = {tank_height:g} m")
     lattice_count("dam_break_wedge", "the water column", dx, ("width", width), ("height", height))
     lattice_count("dam_break_wedge", "the tank", dx, ("tank_width", tank_width), ("tank_height", tank_height))
-    c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
+    c0 = sound_speed(g, height) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
     spacing = r0 = dx / 2.0
     scene = Scene(
@@ -71,7 +71,7 @@ def dam_break_wedge(
             PressureGradient(),
             ArtificialViscosity(alpha=alpha),
             Gravity(gravity=(0.0, -g)),
-            LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0),
+            LennardJonesWall(lj_strength=lennard_jones_strength(g, height, r0), lj_cutoff=r0),
         ],
         kernel=kernel,
         integrator=integrator,
@@ -81,7 +81,7 @@ def dam_break_wedge(
                      f"{wedge_base:g} m wide wedge in a {tank_width:g} m tank"),
     )
     fluid = lattice([0.0, 0.0], [width, height], dx)
-    rho = tait.density(water.rho0 * g * (height - fluid[:, 1]), water.rho0, water.c0, water.gamma)
+    rho = hydrostatic_density(water, g, height - fluid[:, UP])
     scene.add_fluid(fluid, density=rho)
     tank = box_walls([0.0, 0.0], [tank_width, tank_height], spacing)
     under_wedge = (np.abs(tank[:, 1]) < 1e-9) & (tank[:, 0] > wedge_start + 1e-9) & (tank[:, 0] < wedge_start + wedge_base - 1e-9)

@@ -7,16 +7,18 @@ import numpy as np
 from taisph.geometry import ball, extrude, polyline, side_walls
 from taisph.scene import Material, Scene
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
-from taisph.parameters import (ParameterError, at_least, checked, integer, known_integrator, known_kernel,
-                               lattice_count, one_of, optional, positive, smoothing_factor)
+from taisph.scene.water import lennard_jones_strength, sound_speed
+from taisph.scene.parameters import (ParameterError, at_least, checked, end_time, frame_count, gravity_magnitude,
+                                     known_integrator, known_kernel, lattice_count, one_of, optional, positive,
+                                     smoothing_factor, speed_of_sound, viscosity_alpha)
 
 SQRT2 = math.sqrt(2.0)
 
 
 @checked(dim=one_of(2, 3), dx=optional(positive), radius=positive, fall=at_least(0), impact_x=positive,
          incline=positive, floor=at_least(0), tank_height=positive, depth=positive, side_wall_height=positive,
-         alpha=at_least(0), c0=optional(positive), h_factor=smoothing_factor, g=positive, kernel=known_kernel,
-         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
+         alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel,
+         integrator=known_integrator, t_end=end_time, frames=frame_count)
 def drop_on_incline(
     dim: int = 2,
     dx: float | None = None,
@@ -82,7 +84,7 @@ def drop_on_incline(
         outline = 2 * tank_height + SQRT2 * incline + floor
         lattice_count("drop_on_incline", "the container's wall", dx / 2,
                       ("its length 2 tank_height + sqrt(2) incline + floor", outline), spacing_name="dx/2")
-    c0 = 10.0 * math.sqrt(2.0 * g * top) if c0 is None else c0
+    c0 = sound_speed(g, top) if c0 is None else c0
     water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
     spacing = r0 = dx / 2.0
     gravity = (0.0, -g) if dim == 2 else (0.0, -g, 0.0)
@@ -100,7 +102,7 @@ def drop_on_incline(
             PressureGradient(),
             ArtificialViscosity(alpha=alpha),
             Gravity(gravity=gravity),
-            LennardJonesWall(lj_strength=5.0 * g * top / r0, lj_cutoff=r0),
+            LennardJonesWall(lj_strength=lennard_jones_strength(g, top, r0), lj_cutoff=r0),
         ],
         kernel=kernel,
         integrator=integrator,

@@ -8,13 +8,14 @@ from taisph.scene import Material, Scene
 from taisph.geometry import lattice
 from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, PressureGradient, XSPH
 from taisph.eos import tait
-from taisph.parameters import (at_least, between, checked, finite, integer, known_integrator, known_kernel,
-                               lattice_count, optional, positive, smoothing_factor)
+from taisph.scene.parameters import (checked, diffusion_delta, end_time, finite, frame_count, known_integrator,
+                                     known_kernel, lattice_count, optional, positive, reference_density,
+                                     smoothing_factor, speed_of_sound, viscosity_alpha, xsph_epsilon)
 
 
-@checked(dx=positive, R=positive, A0=finite, rho0=positive, c0=positive, h_factor=smoothing_factor,
-         kernel=known_kernel, integrator=known_integrator, alpha=at_least(0), delta=optional(at_least(0)),
-         xsph=optional(between(0, 1)), t_end=positive, frames=integer(at_least=1))
+@checked(dx=positive, R=positive, A0=finite, rho0=reference_density, c0=speed_of_sound, h_factor=smoothing_factor,
+         kernel=known_kernel, integrator=known_integrator, alpha=viscosity_alpha, delta=optional(diffusion_delta),
+         xsph=optional(xsph_epsilon), t_end=end_time, frames=frame_count)
 def elliptical_drop(
     dx: float = 0.025,
     R: float = 1.0,

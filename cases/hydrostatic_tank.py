@@ -1,15 +1,16 @@
-"""Hydrostatic tank: still water in a closed tank must stay still, with p = rho g (H - y) (Adami, Hu & Adams 2012, sec. 6)."""
+"""Hydrostatic tank: still water in an open-topped tank must stay still, with p = rho g (H - y) (Adami, Hu & Adams 2012, sec. 6)."""
 
-from taisph.parameters import (at_least, checked, flag, integer, known_integrator, known_kernel, lattice_count,
-                               one_of, optional, positive, smoothing_factor)
+from taisph.scene.parameters import (checked, diffusion_delta, end_time, flag, frame_count, gravity_magnitude,
+                                     known_integrator, known_kernel, lattice_count, one_of, optional, positive,
+                                     smoothing_factor, speed_of_sound, viscosity_alpha)
 
 from .dam_break import WALL_MODELS, _dam_break
 
 
-@checked(dx=positive, width=positive, height=positive, alpha=at_least(0), c0=optional(positive),
-         h_factor=smoothing_factor, g=positive, kernel=known_kernel, integrator=known_integrator,
-         walls=one_of(*WALL_MODELS), wall_friction=flag, delta=optional(at_least(0)), t_end=positive,
-         frames=integer(at_least=1))
+@checked(dx=positive, width=positive, height=positive, alpha=viscosity_alpha, c0=optional(speed_of_sound),
+         h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel, integrator=known_integrator,
+         walls=one_of(*WALL_MODELS), wall_friction=flag, delta=optional(diffusion_delta), t_end=end_time,
+         frames=frame_count)
 def hydrostatic_tank(
     dx: float = 0.025,
     width: float = 1.0,
@@ -40,4 +41,4 @@ def hydrostatic_tank(
     lattice_count("hydrostatic_tank", "the tank", dx, ("width", width), ("1.5 height", 1.5 * height))
     return _dam_break(2, dx, width, height, None, width, 1.5 * height, alpha, c0, h_factor, g, kernel, integrator,
                       t_end, frames, "hydrostatic_tank", walls=walls, wall_friction=wall_friction, delta=delta or 0.0,
-                      description=f"{width:g} m x {height:g} m of still water in a closed tank")
+                      description=f"{width:g} m x {height:g} m of still water in an open-topped tank (walls on three sides)")

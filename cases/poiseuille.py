@@ -7,13 +7,14 @@ import numpy as np
 from taisph.scene import Material, Scene
 from taisph.geometry import lattice, wall_layers
 from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, PressureGradient
-from taisph.parameters import (ParameterError, at_least, checked, finite, integer, known_integrator, known_kernel,
-                               lattice_count, optional, positive, smoothing_factor)
+from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, end_time, finite, frame_count,
+                                     known_integrator, known_kernel, lattice_count, optional, positive,
+                                     reference_density, smoothing_factor, speed_of_sound)
 
 
-@checked(dx=positive, L=positive, nu=positive, F=finite, rho0=positive, c0=positive, h_factor=smoothing_factor,
-         kernel=known_kernel, integrator=known_integrator, delta=optional(at_least(0)), t_end=positive,
-         frames=integer(at_least=1))
+@checked(dx=positive, L=positive, nu=positive, F=finite, rho0=reference_density, c0=speed_of_sound, h_factor=smoothing_factor,
+         kernel=known_kernel, integrator=known_integrator, delta=optional(diffusion_delta), t_end=end_time,
+         frames=frame_count)
 def poiseuille(
     dx: float = 5e-5,
     L: float = 1e-3,

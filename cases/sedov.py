@@ -2,18 +2,19 @@
 
 import numpy as np
 
-from taisph import gas
+from taisph.scene import gas
 from taisph.engine.timestep import initial_dt
 from taisph.scene import Gas, Scene
 from taisph.geometry import lattice
-from taisph.parameters import (ParameterError, at_least, checked, courant_number, flag, greater_than, integer,
-                               known_integrator, known_kernel, lattice_count, one_of, positive, smoothing_factor)
+from taisph.scene.parameters import (ParameterError, at_least, checked, courant_number, end_time, flag, frame_count,
+                                     greater_than, known_integrator, known_kernel, lattice_count, one_of, positive,
+                                     smoothing_factor, viscosity_alpha)
 
 
 @checked(dx=positive, energy=positive, rho0=positive, p0=at_least(0), gamma=greater_than(1), size=positive,
-         density=one_of(*gas.DENSITY), conductivity=flag, variable_h=flag, alpha=at_least(0), beta=at_least(0),
+         density=one_of(*gas.DENSITY), conductivity=flag, variable_h=flag, alpha=viscosity_alpha, beta=at_least(0),
          alpha_u=at_least(0), h_factor=smoothing_factor, courant=courant_number, kernel=known_kernel,
-         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
+         integrator=known_integrator, t_end=end_time, frames=frame_count)
 def sedov(
     dx: float = 0.01,
     energy: float = 1.0,
@@ -42,7 +43,7 @@ def sedov(
     far from them until t_end). The energy is given to the particles within 2h of the
     centre, in proportion to the cubic spline W(r, h): e_i = E W(r_i) / sum_j m_j W(r_j)
     (the ambient internal energy p0 / ((gamma - 1) rho0) is added to every particle).
-    Effects as taisph.gas.effects, with h = h_factor sqrt(m / rho) per particle, up
+    Effects as taisph.scene.gas.effects, with h = h_factor sqrt(m / rho) per particle, up
     to 2 h_factor dx. With a constant h (variable_h=False) the few hottest particles
     end up alone in the evacuated centre, no neighbour within 2h, and keep their
     energy: at t = 0.1 and dx = 0.02, 44 % of E is within R/4 (exact 3.9 %; 26 % with

@@ -2,12 +2,12 @@
 
 import numpy as np
 
-from taisph import gas
+from taisph.scene import gas
 from taisph.engine.timestep import initial_dt
 from taisph.scene import Gas, Scene
-from taisph.parameters import (ParameterError, at_least, checked, courant_number, finite, flag, greater_than,
-                               integer, known_integrator, known_kernel, lattice_count, one_of, positive,
-                               smoothing_factor, vector)
+from taisph.scene.parameters import (ParameterError, at_least, checked, courant_number, end_time, finite, flag,
+                                     frame_count, greater_than, known_integrator, known_kernel, lattice_count,
+                                     one_of, positive, smoothing_factor, vector, viscosity_alpha)
 
 SPACINGS = ("equal_mass", "equal_spacing")
 STATE = vector(("rho", "u", "p"), positive, finite, positive)
@@ -15,9 +15,9 @@ STATE = vector(("rho", "u", "p"), positive, finite, positive)
 
 @checked(dx=positive, left=STATE, right=STATE, gamma=greater_than(1), x0=positive, length=positive,
          spacing=one_of(*SPACINGS), density=one_of(*gas.DENSITY), conductivity=flag, variable_h=flag,
-         alpha=at_least(0), beta=at_least(0), alpha_u=at_least(0), h_factor=smoothing_factor,
-         courant=courant_number, kernel=known_kernel, integrator=known_integrator, t_end=positive,
-         frames=integer(at_least=1))
+         alpha=viscosity_alpha, beta=at_least(0), alpha_u=at_least(0), h_factor=smoothing_factor,
+         courant=courant_number, kernel=known_kernel, integrator=known_integrator, t_end=end_time,
+         frames=frame_count)
 def sod(
     dx: float = 0.5 / 400,
     left: tuple = (1.0, 0.0, 1.0),
@@ -50,7 +50,7 @@ def sod(
     periodic domain [0, 2 length] (particles at x and 2 length - x), so no boundary
     particles are needed; results are reported on [0, length].
 
-    Effects (taisph.gas.effects): density by summation (or continuity), energy
+    Effects (taisph.scene.gas.effects): density by summation (or continuity), energy
     equation, Monaghan viscosity alpha = 1, beta = 2 with heating, Price conductivity
     alpha_u = 1, h = h_factor (m / rho) per particle (variable_h). Fixed time step
     courant * h_min / c_max(0) (taisph.engine.timestep.initial_dt; stable up to courant = 0.5).

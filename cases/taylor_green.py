@@ -7,14 +7,16 @@ from taisph.scene import Material, Scene
 from taisph.geometry import lattice
 from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting, PressureGradient, XSPH
 from taisph.eos import tait
-from taisph.parameters import (ParameterError, at_least, between, checked, flag, integer, known_integrator,
-                               known_kernel, lattice_count, optional, positive, smoothing_factor)
+from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, end_time, flag, frame_count,
+                                     known_integrator, known_kernel, lattice_count, optional, positive,
+                                     reference_density, smoothing_factor, speed_of_sound, viscosity_alpha,
+                                     xsph_epsilon)
 
 
-@checked(dx=positive, Re=positive, U=positive, L=positive, rho0=positive, c0=optional(positive),
-         h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator, alpha=optional(at_least(0)),
-         delta=optional(at_least(0)), xsph=optional(between(0, 1)), shifting=flag, t_end=positive,
-         frames=integer(at_least=1))
+@checked(dx=positive, Re=positive, U=positive, L=positive, rho0=reference_density, c0=optional(speed_of_sound),
+         h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator, alpha=optional(viscosity_alpha),
+         delta=optional(diffusion_delta), xsph=optional(xsph_epsilon), shifting=flag, t_end=end_time,
+         frames=frame_count)
 def taylor_green(
     dx: float = 0.02,
     Re: float = 100.0,

@@ -1,21 +1,21 @@
 """Two fluids of density ratio 2 in a box, the heavy one on top: a Rayleigh-Taylor instability (seed Figure 4)."""
 
-import math
-
 import numpy as np
 
 from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice
 from taisph.terms import ArtificialViscosity, ContinuityColagrossi, Gravity, LennardJonesWall, PressureHuAdams
 from taisph.eos import tait
-from taisph.parameters import (ParameterError, at_least, checked, integer, known_integrator, known_kernel,
-                               lattice_count, optional, positive, smoothing_factor)
+from taisph.scene.water import lennard_jones_strength, sound_speed
+from taisph.scene.parameters import (ParameterError, at_least, checked, end_time, frame_count, gravity_magnitude,
+                                     known_integrator, known_kernel, lattice_count, optional, positive,
+                                     smoothing_factor, speed_of_sound, viscosity_alpha)
 
 
 @checked(dx=positive, width=positive, height=positive, tank_height=positive, density_ratio=positive,
-         upper_density=positive, amplitude=at_least(0), alpha=at_least(0), c0=optional(positive),
-         lower_c0=optional(positive), h_factor=smoothing_factor, g=positive, kernel=known_kernel,
-         integrator=known_integrator, t_end=positive, frames=integer(at_least=1))
+         upper_density=positive, amplitude=at_least(0), alpha=viscosity_alpha, c0=optional(speed_of_sound),
+         lower_c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel,
+         integrator=known_integrator, t_end=end_time, frames=frame_count)
 def two_fluids(
     dx: float = 0.02,
     width: float = 1.0,
@@ -65,7 +65,7 @@ def two_fluids(
                              f"(tank_height = {tank_height:g} m)")
     lattice_count("two_fluids", "the liquid", dx, ("width", width), ("height", height))
     lattice_count("two_fluids", "the tank", dx, ("width", width), ("tank_height", tank_height))
-    c0 = 10.0 * math.sqrt(2.0 * g * height) if c0 is None else c0
+    c0 = sound_speed(g, height) if c0 is None else c0
     upper = Material("upper", rho0=upper_density, c0=c0, gamma=7.0)
     lower_c0 = c0 if lower_c0 is None else lower_c0
     lower = Material("lower", rho0=upper_density / density_ratio, c0=lower_c0, gamma=7.0)
@@ -82,7 +82,7 @@ def two_fluids(
             PressureHuAdams(),
             ArtificialViscosity(alpha=alpha),
             Gravity(gravity=(0.0, -g)),
-            LennardJonesWall(lj_strength=5.0 * g * height / r0, lj_cutoff=r0),
+            LennardJonesWall(lj_strength=lennard_jones_strength(g, height, r0), lj_cutoff=r0),
         ],
         kernel=kernel,
         integrator=integrator,

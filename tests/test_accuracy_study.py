@@ -1,4 +1,4 @@
-"""The work-precision study's quick mode (``python tools/accuracy_cost.py --quick``, run
+"""The work-precision study's quick mode (``python -m tools.studies.accuracy_cost --quick``, run
 here through the package function it calls, taisph.validation.accuracy_cost.run_study):
 it writes its files, and its numbers say what the documentation says (docs/accuracy.md)."""
 

@@ -1,6 +1,6 @@
 """The command line refuses bad numbers with the option's or parameter's name, the value
 and the allowed range, with exit code 2 and nothing written; ``CASE --help`` shows each
-parameter's range; the seed's scene logic (taisph.seed) does not import the command line."""
+parameter's range; the seed's scene logic (taisph.formats.seed) does not import the command line."""
 
 import os
 import subprocess
@@ -10,7 +10,8 @@ import pytest
 
 import taisph
 from taisph.cli import main as cli
-from taisph.parameters import ParameterError
+from taisph.scene import catalogue
+from taisph.scene.parameters import ParameterError
 
 
 def test_dam_break_negative_dx_exits_2_and_writes_nothing(tmp_path):
@@ -26,10 +27,10 @@ def test_dam_break_negative_dx_exits_2_and_writes_nothing(tmp_path):
 
 
 @pytest.mark.parametrize("argv,message", [
-    (["--t-end", "0"], "argument --t-end: must be > 0, got 0"),
+    (["--t-end", "0"], "argument --t-end: must be in (0, 100000], got 0"),
     (["--dt", "-0.001"], "argument --dt: must be > 0, got -0.001"),
     (["--dt", "abc"], "argument --dt: expected a number, got 'abc'"),
-    (["--frames", "0"], "argument --frames: must be an integer >= 1, got 0"),
+    (["--frames", "-1"], "argument --frames: must be an integer in [0, 100000], got -1"),
     (["--frames", "2.5"], "argument --frames: expected an integer, got '2.5'"),
     (["--threads", "0"], "argument --threads: must be an integer >= 1, got 0"),
     (["--checkpoint-every", "-2"], "argument --checkpoint-every: must be an integer >= 1, got -2"),
@@ -38,7 +39,7 @@ def test_dam_break_negative_dx_exits_2_and_writes_nothing(tmp_path):
     (["--dx", "nan"], "argument --dx: must be > 0, got nan"),
     (["--dx", "5"], "dam_break: dx = 5 m leaves the water column (width = 1 m, height = 2 m) without particles "
                     "along width: dx must be at most 1 m"),
-    (["--set", "alpha=-1"], "dam_break: alpha must be >= 0, got -1.0"),
+    (["--set", "alpha=-1"], "dam_break: alpha must be in [0, 2], got -1.0"),
     (["--set", "walls=wood"], "--set walls=wood: walls must be one of 'lj', 'dummy' or None; expected one of lj, "
                               "dummy, got 'wood'"),
     (["--set", "closed_top=maybe"], "--set closed_top=maybe: closed_top must be True or False; expected true or "
@@ -53,13 +54,13 @@ def test_case_command_refuses_out_of_range(tmp_path, capsys, argv, message):
 
 
 @pytest.mark.parametrize("argv,message", [
-    (["run", "p.dat", "1", "0.001", "pc", "spline", "--alpha", "-1"], "argument --alpha: must be >= 0, got -1"),
+    (["run", "p.dat", "1", "0.001", "pc", "spline", "--alpha", "-1"], "argument --alpha: must be in [0, 2], got -1"),
     (["run", "p.dat", "1", "0.001", "pc", "spline", "--rho0", "1000,-5"],
      "argument --rho0: each value must be > 0, got -5 in 1000,-5"),
-    (["run", "p.dat", "1", "0.001", "pc", "spline", "--frames", "0"], "argument --frames: must be an integer >= 1"),
+    (["run", "p.dat", "1", "0.001", "pc", "spline", "--frames", "0"], "argument --frames: must be an integer in [1, 100000]"),
     (["run", "p.dat", "1", "0.001", "pc", "spline", "--lj-cutoff", "0"], "argument --lj-cutoff: must be > 0, got 0"),
     (["export", "dam_break", "--dat", "DAT", "--dx", "0"], "argument --dx: must be > 0, got 0"),
-    (["export", "dam_break", "--dat", "DAT", "--set", "g=-9.81"], "dam_break: g must be > 0, got -9.81"),
+    (["export", "dam_break", "--dat", "DAT", "--set", "g=-9.81"], "dam_break: g must be in (0, 1000], got -9.81"),
     (["export", "no_such_case", "--dat", "DAT"], "unknown case 'no_such_case'; cases: couette, dam_break"),
 ])
 def test_seed_commands_refuse_out_of_range(tmp_path, capsys, argv, message):
@@ -88,24 +89,22 @@ def test_case_help_shows_each_parameter_range(capsys):
     assert row["courant"].split() == ["courant", "=", "0.2", "in", "(0,", "1]"]
     assert row["spacing"].split() == ["spacing", "=", "'equal_mass'", "one", "of", "'equal_mass',", "'equal_spacing'"]
     assert row["left"].endswith("(rho, u, p) with rho > 0, u a finite number, p > 0")
-    assert row["frames"].endswith("an integer >= 1")
+    assert row["frames"].endswith("an integer in [1, 100000]")
 
 
 def test_set_parses_by_the_declared_range(tmp_path, capsys):
     """--set values take the parameter's kind: a tuple, a flag, none, an integer."""
-    from taisph.cli import cases
-
-    assert cases.parse_setting("sod", "left=(2,0,3)") == ("left", (2.0, 0.0, 3.0))
-    assert cases.parse_setting("sod", "variable-h=off") == ("variable_h", False)
-    assert cases.parse_setting("dam_break", "c0=none") == ("c0", None)
-    assert cases.parse_setting("drop_on_incline", "dim=3") == ("dim", 3)
+    assert catalogue.parse_setting("sod", "left=(2,0,3)") == ("left", (2.0, 0.0, 3.0))
+    assert catalogue.parse_setting("sod", "variable-h=off") == ("variable_h", False)
+    assert catalogue.parse_setting("dam_break", "c0=none") == ("c0", None)
+    assert catalogue.parse_setting("drop_on_incline", "dim=3") == ("dim", 3)
 
 
 def test_seed_does_not_import_the_command_line(tmp_path):
-    """Building scenes from seed files and writing them (taisph.seed) loads no module of
+    """Building scenes from seed files and writing them (taisph.formats.seed) loads no module of
     taisph.cli and no argparse-based command: the import cycle of issue 12 is gone."""
     code = (
-        "import sys, taisph.seed as seed, taisph\n"
+        "import sys, taisph.formats.seed as seed, taisph\n"
         f"argv = seed.export_scene(taisph.cases.dam_break_wedge(dx=0.2), {str(tmp_path)!r})\n"
         f"scene, _ = seed.load_scene({str(tmp_path / 'particles.dat')!r}, {str(tmp_path / 'boundary.dat')!r})\n"
         "print(scene.n_fluid, sorted(m for m in sys.modules if m.startswith('taisph.cli')))\n"
@@ -113,3 +112,21 @@ def test_seed_does_not_import_the_command_line(tmp_path):
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split()[-2:] == ["50", "[]"]
+
+
+@pytest.mark.parametrize("name", sorted(catalogue.registry()))
+def test_help_shows_each_cases_real_defaults(name):
+    """`CASE --help` states what a run without the option does: the default scene's dx,
+    end time, frames, integrator, kernel, and the Courant number the simulation will use
+    (timestep.controls_for, as taisph.Simulation sets it up)."""
+    from taisph.engine.timestep import controls_for
+
+    parser = cli.build_parser(name)
+    helps = {a.option_strings[0]: " ".join(a.help.split()) for a in parser._actions if a.option_strings}
+    scene = catalogue.find(name)()
+    assert helps["--dx"].endswith(f"this case: {scene.dx:g} m")
+    assert helps["--t-end"].endswith(f"this case: {scene.t_end:g} s")
+    assert helps["--frames"].endswith(f"this case: {scene.frames}")
+    assert helps["--integrator"].endswith(f"this case: {scene.integrator}")
+    assert helps["--kernel"].endswith(f"this case: {scene.kernel}")
+    assert helps["--courant"].endswith(f"this case: {controls_for(scene).courant:g}")

@@ -1,4 +1,4 @@
-"""DFSPH (``Scene(solver="dfsph")``, taisph/engine/dfsph.py): the implicit incompressible
+"""DFSPH (``Scene(solver="dfsph")``, taisph/engine/dfsph/solver.py): the implicit incompressible
 solver against physics, its failures, and its place in the command line and scene
 files. The long validations (dx as in the issue) are marked slow; docs/dfsph.md
 gives their measured values."""
@@ -9,7 +9,8 @@ import pytest
 
 import taisph
 from taisph.cli import main as cli
-from taisph.engine import dfsph, pairs
+from taisph.engine.dfsph import solver as dfsph
+from taisph.engine.dfsph import pairs
 from taisph.validation import runs
 
 
@@ -79,7 +80,7 @@ def test_dam_break_front_and_compression_against_koshizuka_oka():
 
 def test_a_solve_that_does_not_converge_stops_the_run_and_says_why(tmp_path):
     sim = taisph.Simulation(dfsph_scene(dx=0.04), dfsph_max_iterations=3)
-    with pytest.raises(taisph.simulation.SimulationError) as err:
+    with pytest.raises(taisph.run.simulation.SimulationError) as err:
         sim.run(0.3, out=tmp_path)
     message = str(err.value)
     assert "pressure solve did not converge" in message
@@ -97,7 +98,7 @@ def test_guards_still_work_with_dfsph():
     scene.add_fluid(np.stack(np.meshgrid(np.arange(0.3, 0.7, 0.05), np.arange(0.1, 0.5, 0.05)), -1).reshape(-1, 2))
     scene.add_walls(np.stack([np.arange(0.0, 1.0, 0.004), np.full(250, 0.05)], -1))
     sim = taisph.Simulation(scene)
-    with pytest.raises(taisph.simulation.SimulationError, match="neighbour list full"):
+    with pytest.raises(taisph.run.simulation.SimulationError, match="neighbour list full"):
         sim.run(0.5)
 
 
@@ -148,8 +149,8 @@ def test_a_moving_wall_drives_the_fluid_couette():
 
 
 def test_a_scene_file_may_ask_for_dfsph(tmp_path, capsys):
-    from taisph.scenefile import load
-    from taisph.scenefile_build import find_scene_file
+    from taisph.formats.scenefile import load
+    from taisph.scene.catalogue import find_scene_file
 
     path = find_scene_file("dam_break_probes_2d.toml")
     scene, settings = load(path, {"solver": "dfsph", "dx": 0.1})

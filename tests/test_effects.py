@@ -52,6 +52,15 @@ def test_a_dfsph_kernel_has_no_equation_of_state_and_a_wcsph_kernel_no_dfsph_pas
     assert not names & {"tait", "continuity", "pressure", "density_diffusion", "dummy_walls"}
 
 
+def test_the_record_of_what_was_traced_stays_bounded():
+    """kernels.TRACED holds each (term, role) once: compiling the same configuration
+    again (a fresh solver, fresh fields) adds nothing to it."""
+    first = traced_while(lambda: taisph.Simulation(bare_scene()).step(1))
+    solver._cache.clear()
+    taisph.Simulation(bare_scene()).step(1)
+    assert kernels.TRACED == first
+
+
 def test_unlisted_terms_take_no_memory():
     """The per-particle rows are those of the listed terms: the dam break's viscosity
     and walls add no row (they need none), the bare scene stores exactly the base

@@ -106,3 +106,18 @@ def test_xsph_moves_particles_not_momentum(rng):
         expected = 1e-3 * (m[:, None] * v0).sum(0) / m.sum()
         np.testing.assert_allclose(com_shift, expected, atol=1e-14)
     assert np.abs(runs[1] - runs[0]).max() > 1e-6
+
+
+@pytest.mark.parametrize("name,dim", [("spline", 2), ("gaussian", 3), ("wendland", 1), ("wendland", 2)])
+def test_a_kernel_s_numpy_form_is_its_taichi_form(name, dim):
+    """Each smoothing kernel's ``f_numpy`` (sums on the host: DFSPH's lattice density)
+    gives the values of its ``f`` in the kernels, across both pieces and the cut-off."""
+    from taisph.engine import smoothing
+
+    h = 0.1
+    r = np.linspace(0.0, 3.2 * h, 97)
+    rij = np.zeros((len(r), dim))
+    rij[:, 0] = r
+    w, _ = smoothing.evaluate(name, dim, rij, h)
+    kernel = smoothing.make(name, dim)
+    np.testing.assert_allclose(kernel.sigma(dim) / h**dim * kernel.f_numpy(r / h), w, rtol=1e-12, atol=1e-14)

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph import gas
+from taisph.scene import gas
 from taisph.cases.sedov import shock_radius
 from taisph.cases.sod import compare, tube
 from taisph.validation.references.riemann import RiemannProblem

@@ -6,7 +6,7 @@ import pytest
 
 import taisph
 from taisph.cli import main as cli
-from taisph.io import vtk
+from taisph.run import vtk
 
 
 @pytest.fixture(scope="module")

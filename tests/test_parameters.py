@@ -1,4 +1,4 @@
-"""Every case parameter has a declared range (taisph.parameters.checked), and a value
+"""Every case parameter has a declared range (taisph.scene.parameters.checked), and a value
 outside it, or a combination that cannot be built, is refused with a message that names
 the parameter, its value and what is allowed, before anything is built; no library
 error (numpy, ZeroDivisionError, MemoryError, ...) reaches the user."""
@@ -9,7 +9,7 @@ import re
 import pytest
 
 import taisph
-from taisph.parameters import Flag, Number, OneOf, Optional, ParameterError, Vector, lattice_count
+from taisph.scene.parameters import Flag, Number, OneOf, Optional, ParameterError, Vector, lattice_count
 
 CASES = taisph.cases.CASES
 
@@ -123,8 +123,38 @@ def test_combinations_that_cannot_be_built_are_refused(case, params, message):
 def test_lattice_count_refuses_what_memory_cannot_hold(monkeypatch):
     """The memory estimate: 300 bytes a particle against the machine's memory (here
     pretended to be 1 MB: 3333 particles fit, 3334 do not)."""
-    monkeypatch.setattr("taisph.parameters._memory_bytes", lambda: 1e6)
+    monkeypatch.setattr("taisph.scene.parameters._memory_bytes", lambda: 1e6)
     assert lattice_count("test", "a block", 1.0, ("a", 3333.0)) == 3333
     with pytest.raises(ParameterError, match=r"test: dx = 1 m fills a block \(a = 3334 m\) with 3.33e\+03 "
                                              r"particles, which need at least 0.001 GB; this machine has 0.001 GB"):
         lattice_count("test", "a block", 1.0, ("a", 3334.0))
+
+
+def test_one_list_of_names_for_every_vocabulary():
+    """Solvers, integrators and kernels are named once (taisph.scene.names): the engine's
+    registries, case parameters, the command line, scene files and the seed's words all
+    offer exactly these, in this order."""
+    from taisph.cli.case import build_parser
+    from taisph.engine import integrators, smoothing
+    from taisph.formats import scenefile_spec, seed
+    from taisph.scene import names
+    from taisph.scene.parameters import known_integrator, known_kernel, known_solver
+
+    assert tuple(integrators.INTEGRATORS) == names.INTEGRATORS and tuple(smoothing.KERNELS) == names.KERNELS
+    assert (known_solver.choices, known_integrator.choices, known_kernel.choices) == (
+        names.SOLVERS, names.INTEGRATORS, names.KERNELS)
+    options = {a.dest: a.choices for a in build_parser()._actions}
+    assert (tuple(options["solver"]), tuple(options["integrator"]), tuple(options["kernel"])) == (
+        names.SOLVERS, names.INTEGRATORS, names.KERNELS)
+    assert [scenefile_spec.RANGES[k].choices for k in ("solver", "integrator", "kernel")] == [
+        names.SOLVERS, names.INTEGRATORS, names.KERNELS]
+    assert set(seed.INTEGRATOR_WORDS.values()) <= set(names.INTEGRATORS) and seed.KERNEL_WORDS == names.KERNELS
+
+
+def test_command_line_defaults_are_the_simulation_defaults():
+    """--max-density-error and --max-out-of-range default to Controls' own values."""
+    from taisph.cli.case import build_parser
+    from taisph.engine.timestep import Controls
+
+    args = build_parser().parse_args(["dam_break"])
+    assert (args.max_density_error, args.max_out_of_range) == (Controls().max_density_error, Controls().max_out_of_range)

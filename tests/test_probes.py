@@ -4,13 +4,15 @@ columns and rows its probes ask for, also when a run stops early; mistakes are
 refused with the probe's name."""
 
 import math
+import re
 
 import numpy as np
 import pytest
 
 import taisph
 from taisph.cli.main import main as cli
-from taisph.probes import Probes, elevation, force, pressure, read_csv, surface_height
+from taisph.probes import (OutsideDomainError, Probe, Probes, check_inside, elevation, face_points, force, pressure,
+                           read_csv, surface_height)
 
 RHO0, G = 1000.0, 9.81
 
@@ -61,8 +63,8 @@ def test_force_probe_is_the_force_the_fluid_feels(case):
         scene, wall, _ = still_tank(dx=0.025, walls="lj")
         t_end, walls = 0.2, {"walls": wall}
     else:
-        from taisph.scenefile import load
-        from taisph.scenefile_build import find_scene_file
+        from taisph.formats.scenefile import load
+        from taisph.scene.catalogue import find_scene_file
 
         scene, settings = load(find_scene_file("dam_break_probes_2d.toml"), {"dx": 0.04})
         t_end, walls = 0.8, settings.wall_groups
@@ -160,9 +162,11 @@ def test_probes_are_their_definitions(dim):
     group = wall[x[wall, 1] < 0.0]
     line = tuple(np.delete(centre, 1))
     seg_a, seg_b = centre + (top - centre[1] - 0.3) * up, centre + (top - centre[1] + 0.2) * up  # half dry
+    across = np.eye(dim)[0] * 0.15  # the rectangle (3D: at and to differ in x and y) or the sloping segment (2D)
+    rect_a, rect_b = seg_a - across, seg_b + across
     probes = Probes([pressure(f"p{k}", at=tuple(a)) for k, a in enumerate(points)]
                     + [pressure("sensor", at=tuple(seg_a), to=tuple(seg_b)), elevation("eta", at=line),
-                       force("floor", walls=group)])
+                       force("floor", walls=group), pressure("face", at=tuple(rect_a), to=tuple(rect_b))])
     probes.sample(sim)
     values = probes.values
 
@@ -180,6 +184,21 @@ def test_probes_are_their_definitions(dim):
     expected = np.mean([pi / phi if phi >= 0.2 else 0.0 for phi, pi in face])
     assert values["sensor"][0] == pytest.approx(expected, rel=1e-9)
     assert 0 < sum(phi < 0.2 for phi, _ in face) < parts  # partly dry
+    # the face from rect_a to rect_b: in 3D the rectangle x in [x0 - 0.15, x0 + 0.15], y in [y0 - 0.3, y0 + 0.2]
+    # at z = z0, as a grid of 6 x 10 cell centres (dx/2 = 0.05 apart); in 2D the segment between the corners
+    if dim == 3:
+        nx, ny = int(np.ceil(0.3 / (scene.dx / 2) - 1e-9)), parts
+        u, v = np.meshgrid((np.arange(nx) + 0.5) / nx, (np.arange(ny) + 0.5) / ny, indexing="ij")
+        corners = rect_b - rect_a
+        grid = [rect_a + np.array([a * corners[0], b * corners[1], 0.0]) for a, b in zip(u.ravel(), v.ravel())]
+        assert len(grid) == 60
+    else:
+        n = int(np.ceil(np.linalg.norm(rect_b - rect_a) / (scene.dx / 2) - 1e-9))
+        grid = [rect_a + (k + 0.5) / n * (rect_b - rect_a) for k in range(n)]
+    face = [fraction(a) for a in grid]
+    assert 0 < sum(phi < 0.2 for phi, _ in face) < len(face)  # partly dry
+    expected = np.mean([pi / phi if phi >= 0.2 else 0.0 for phi, pi in face])
+    assert values["face"][0] == pytest.approx(expected, rel=1e-9)
     heights = probes._line
     phi = np.array([fraction(np.insert(np.asarray(line), 1, y))[0] for y in heights])
     assert values["eta"][0] == pytest.approx(surface_height(heights, phi), rel=1e-9)
@@ -371,3 +390,79 @@ def test_command_line_probes_for_cases_and_scene_files(tmp_path, capsys):
         assert cli(["hydrostatic_tank", "--dx", "0.1", "--out", str(tmp_path / "bad"), *argv]) == 2
         assert message in capsys.readouterr().err
     assert not (tmp_path / "bad").exists()
+
+
+def test_face_points_of_a_sensor():
+    """A sensor's face: in 3D the rectangle in a coordinate plane with opposite corners
+    at and to (here 0.09 m x 0.06 m on the wall x = 3.22 m, at most 0.02 m apart: 5 x 3
+    cell centres, their mean the rectangle's centre), a segment along an axis, a point;
+    in 2D the segment. Corners that share no coordinate (a tilted face) are refused."""
+    at, to = (3.22, 0.115, 0.455), (3.22, 0.205, 0.515)
+    points = face_points(at, to, 0.02)
+    assert points.shape == (15, 3)
+    assert np.all(points[:, 0] == 3.22)
+    np.testing.assert_allclose(points.mean(axis=0), (np.asarray(at) + to) / 2, rtol=1e-12)
+    np.testing.assert_allclose(np.unique(points[:, 1].round(12)), 0.115 + 0.018 * (np.arange(5) + 0.5))
+    np.testing.assert_allclose(np.unique(points[:, 2].round(12)), 0.455 + 0.02 * (np.arange(3) + 0.5))
+    assert face_points((0, 0, 0), (0, 0.1, 0), 0.02).shape == (5, 3)  # a segment along y
+    assert face_points((1, 2, 3), (1, 2, 3), 0.02).tolist() == [[1, 2, 3]]
+    np.testing.assert_allclose(face_points((0, 0), (0.03, 0.04), 0.02), [[0.005, 0.02 / 3], [0.015, 0.02],
+                                                                         [0.025, 0.1 / 3]])
+    with pytest.raises(ValueError, match=re.escape("probe 'tilted': at = (0.0, 0.0, 0.0), to = (0.1, 0.1, 0.1): "
+                                                   "in 3D a face is a rectangle in a coordinate plane")):
+        pressure("tilted", at=(0, 0, 0), to=(0.1, 0.1, 0.1)).check(3)
+    pressure("flat", at=(0, 0, 0), to=(0.1, 0.1, 0.0)).check(3)
+
+
+def test_a_probe_outside_the_domain_is_refused_before_the_run(tmp_path):
+    """A pressure point or a gauge line outside the scene's domain (x = 5, x = 9 in a
+    tank whose domain is -0.4 .. 1.4 m along x at dx = 0.1) would read nan for the whole
+    run: the Probes writer refuses it when the run starts, before the first step and
+    before probes.csv is written, with a ValueError naming the probe, the coordinate
+    and the domain's range; a sensor's far corner (to) too. Bounds are inside."""
+    scene = taisph.cases.hydrostatic_tank(dx=0.1)
+    lo, hi = scene.domain
+    assert (lo[0], hi[0]) == pytest.approx((-0.4, 1.4))
+    sim = taisph.Simulation(scene)
+    for probe, message in ((pressure("P", at=(5, 5)), "probe 'P': at = (5.0, 5.0): x = 5 is outside the domain "
+                                                       "(-0.4 .. 1.4)"),
+                           (elevation("g", at=9), "probe 'g': at = (9.0,): x = 9 is outside the domain (-0.4 .. 1.4)"),
+                           (pressure("S", at=(0.5, 0.1), to=(0.5, 2.0)), "probe 'S': to = (0.5, 2.0): y = 2 is "
+                                                                          "outside the domain (-0.4 .. 1.525)")):
+        probes = Probes([pressure("inside", at=(0.5, 0.1)), probe], path=tmp_path / "probes.csv")
+        with pytest.raises(OutsideDomainError, match=re.escape(message)) as err:
+            sim.run(0.01, frames=1, writers=[probes])
+        assert isinstance(err.value, ValueError) and err.value.probe == probe.name
+        assert sim.steps == 0 and not (tmp_path / "probes.csv").exists()
+    sim.close()
+    check_inside([pressure("corner", at=tuple(lo)), elevation("edge", at=hi[0]), force("F", walls="tank")],
+                 scene.domain)
+    with pytest.raises(OutsideDomainError, match=re.escape("my.toml: probe 'z': at = (0.5, 0.1, 3.0): z = 3 is "
+                                                           "outside the domain (0 .. 1)")):
+        check_inside([Probe("z", "pressure", at=(0.5, 0.1, 3.0))], ([0, 0, 0], [1, 1, 1]), "my.toml")
+
+
+def test_command_line_refuses_a_probe_outside_the_domain(tmp_path, capsys):
+    """--probe with a point outside the domain, for a case and for a scene file: exit
+    2 with the probe's name, the coordinate and the domain's range, before anything is
+    built or written (no output folder); a scene file's own probe outside the domain is
+    refused with the same words."""
+    for argv, message in ((["--probe", "pressure:P:5,5"], "probe 'P': at = (5.0, 5.0): x = 5 is outside the domain "
+                                                          "(-0.4 .. 1.4)"),
+                          (["--probe", "elevation:g:9"], "probe 'g': at = (9.0,): x = 9 is outside the domain "
+                                                         "(-0.4 .. 1.4)")):
+        out = tmp_path / "far"
+        assert cli(["hydrostatic_tank", "--dx", "0.1", "--out", str(out), "--no-progress", *argv]) == 2
+        assert message in capsys.readouterr().err
+        assert not out.exists()
+    path = tmp_path / "small.toml"
+    path.write_text(SMALL.format(t_end=0.002, dt=5e-4))
+    out = tmp_path / "s"
+    assert cli([str(path), "--out", str(out), "--no-progress", "--probe", "pressure:P:0.5,-3"]) == 2
+    err = capsys.readouterr().err
+    assert "probe 'P': at = (0.5, -3.0): y = -3 is outside the domain (" in err
+    assert not out.exists()
+    path.write_text(SMALL.format(t_end=0.002, dt=5e-4).replace("at = [0.8, 0.8]", "at = [0.5, -3.0]"))
+    assert cli([str(path), "--out", str(out), "--no-progress"]) == 2
+    assert f"{path}: probes[1].at = [0.5, -3.0]: y = -3 is outside the domain (" in capsys.readouterr().err
+    assert not out.exists()

@@ -10,9 +10,9 @@ import pytest
 
 import taisph
 from taisph.cli.main import main as cli
-from taisph.mesh import contains, distance_to_surface, icosphere
-from taisph.scenefile import Probe, SceneFileError, load, read
-from taisph.scenefile_build import cases_folder
+from taisph.geometry.mesh import contains, distance_to_surface, icosphere
+from taisph.formats.scenefile import Probe, SceneFileError, load, read
+from taisph.scene.catalogue import cases_folder
 
 TANK = """\
 name = "tank"
@@ -101,7 +101,7 @@ def test_the_courant_number_is_a_run_setting(tmp_path, capsys):
 def test_overrides_replace_values_before_the_checks(tmp_path):
     spec = read(scene_file(tmp_path), {"dx": 0.1, "physics.alpha": 0.05, "t_end": 1.5})
     assert (spec.dx, spec.alpha, spec.t_end) == (0.1, 0.05, 1.5)
-    with pytest.raises(SceneFileError, match=re.escape("physics.alpha = -1: must be at least 0")):
+    with pytest.raises(SceneFileError, match=re.escape("physics.alpha = -1: must be in [0, 2]")):
         read(scene_file(tmp_path), {"physics.alpha": -1})
     assert read(scene_file(tmp_path), {"fluid[0].velocity": [1.0, 0.0]}).fluid[0].velocity == (1.0, 0.0)
     with pytest.raises(SceneFileError, match=re.escape("fluid[2].velocity = [1.0, 0.0] (set on the command line): "
@@ -112,16 +112,19 @@ def test_overrides_replace_values_before_the_checks(tmp_path):
 MISTAKES = [  # (old text, new text, key, value shown, problem)
     ('dx = 0.05\n', '', "dx", "(missing)", "required"),
     ('dx = 0.05', 'dx = "fine"', "dx", "'fine'", "expected a number"),
-    ('t_end = 0.2', 't_end = -1.0', "t_end", "-1.0", "must be positive"),
-    ('frames = 2', 'frames = 0', "frames", "0", "must be at least 1"),
-    ('dim = 2', 'dim = 4', "dim", "4", "expected 2 or 3"),
-    ('solver = "wcsph"', 'solver = "isph"', "solver", "'isph'", "expected one of 'wcsph'"),
+    ('t_end = 0.2', 't_end = -1.0', "t_end", "-1.0", "must be in (0, 100000]"),
+    ('frames = 2', 'frames = -1', "frames", "-1", "must be an integer in [0, 100000]"),
+    ('frames = 2', 'frames = 2.0', "frames", "2.0", "expected an integer"),
+    ('dim = 2', 'dim = 4', "dim", "4", "must be an integer in [2, 3]"),
+    ('solver = "wcsph"', 'solver = "isph"', "solver", "'isph'", "must be one of 'wcsph', 'dfsph'"),
+    ('solver = "wcsph"', 'kernel = "quintic"', "kernel", "'quintic'", "must be one of 'spline', 'gaussian', 'wendland'"),
     ('frames = 2', 'frames = 2\nfrmes = 3', "frmes", "3", "unknown key"),
-    ('frames = 2', 'frames = 2\ncourant = 1.5', "courant", "1.5", "must be at most 1"),
+    ('frames = 2', 'frames = 2\ncourant = 1.5', "courant", "1.5", "must be in (0, 1]"),
+    ('frames = 2', 'frames = 2\nh_factor = 0.5', "h_factor", "0.5", "must be in (0.5, 3]"),
     ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81, 0.0]', "physics.gravity", "[0.0, -9.81, 0.0]",
      "expected a list of 2 numbers"),
     ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81]\nviscosity = 1e-6', "physics.viscosity", "1e-06", "unknown key"),
-    ('name = "water"', 'name = "water"\nrho0 = -1000', "materials[0].rho0", "-1000", "must be positive"),
+    ('name = "water"', 'name = "water"\nrho0 = -1000', "materials[0].rho0", "-1000", "must be in (0, 100000]"),
     ('box = [[0.0, 0.0], [1.0, 0.5]]', 'box = [[0.0, 0.0], [1.0]]', "fluid[0].box[1]", "[1.0]",
      "expected a list of 2 numbers"),
     ('box = [[0.0, 0.0], [1.0, 0.5]]', 'box = [[0.0, 0.6], [1.0, 0.5]]', "fluid[0].box",
@@ -131,7 +134,7 @@ MISTAKES = [  # (old text, new text, key, value shown, problem)
     ('material = "water"', 'material = "oil"', "fluid[0].material", "'oil'", "no such material; defined: water"),
     ('material = "water"', 'velocity = [1.0]', "fluid[0].velocity", "[1.0]", "expected a list of 2 numbers"),
     ('model = "dummy"\n\n[[walls]]\nname = "rock"', 'model = "ghost"\n\n[[walls]]\nname = "rock"', "walls[0].model",
-     "'ghost'", "expected one of 'dummy', 'lj'"),
+     "'ghost'", "must be one of 'dummy', 'lj'"),
     ('name = "rock"\npolygon = [[0.4, 0.6], [0.6, 0.6], [0.5, 0.8]]\nmodel = "dummy"',
      'name = "rock"\npolygon = [[0.4, 0.6], [0.6, 0.6], [0.5, 0.8]]\nmodel = "lj"', "walls[1].model", "'lj'",
      "all wall groups need one model"),
@@ -143,19 +146,34 @@ MISTAKES = [  # (old text, new text, key, value shown, problem)
     ('at = [0.5, 0.05]', 'at = [0.5, 7.0]', "probes[0].at", "[0.5, 7.0]", "y = 7 is outside the domain"),
     ('at = [0.5, 0.05]', 'at = [0.5]', "probes[0].at", "[0.5]", "expected a list of 2 numbers"),
     ('name = "gauge"', 'name = "bottom"', "probes[1].name", "'bottom'", "already the name of probes[0]"),
-    ('kind = "elevation"', 'kind = "velocity"', "probes[1].kind", "'velocity'", "expected one of 'pressure'"),
-    ('every = 5', 'every = 0', "probes[1].every", "0", "must be at least 1"),
+    ('kind = "elevation"', 'kind = "velocity"', "probes[1].kind", "'velocity'", "must be one of 'pressure'"),
+    ('every = 5', 'every = 0', "probes[1].every", "0", "must be an integer >= 1"),
     ('every = 5', 'every = 5\nwalls = "tank"', "probes[1].walls", "'tank'", "a elevation probe takes at, not walls"),
     ('at = [0.5, 0.05]', 'at = [0.5, 0.05]\nto = [0.5, 9.0]', "probes[0].to", "[0.5, 9.0]",
      "y = 9 is outside the domain"),
     ('every = 5', 'every = 5\nto = [0.3]', "probes[1].to", "[0.3]", "a elevation probe takes at, not to"),
     ('walls = "tank"\n', 'walls = "roof"\n', "probes[2].walls", "'roof'",
      "no wall group of that name; wall groups: tank, rock"),
+    ('frames = 2', 'frames = 2\nremove_escaped = "yes"', "remove_escaped", "'yes'", "expected true or false"),
+    ('name = "rock"', 'name = "rock"\nkind = "rock"', "walls[1].kind", "'rock'", "must be one of 'tank', 'obstacle'"),
+    ('name = "rock"', 'name = "rock"\nkind = "tank"', "walls[1].kind", "'tank'",
+     "a tank is a box; a mesh or polygon wall is a solid obstacle"),
+    ('name = "rock"', 'name = "rock"\nopen_top = true', "walls[1].open_top", "True",
+     "an obstacle is solid; a box open at the top is a tank"),
+    ('name = "tank"\nbox', 'name = "tank"\nkind = "obstacle"\nopen_top = true\nbox', "walls[0].open_top", "True",
+     "an obstacle is solid"),
+    ('name = "tank"\nbox', 'name = "tank"\nscale = 2.0\nbox', "walls[0].scale", "2.0",
+     "applies to a mesh or polygon, not a box"),
 ]
 
 
 @pytest.mark.parametrize("old, new, key, value, problem", MISTAKES, ids=[m[2] + ":" + m[4][:20] for m in MISTAKES])
 def test_every_mistake_names_the_file_the_key_and_the_value(tmp_path, old, new, key, value, problem):
+    assert_refused(tmp_path, old, new, key, value, problem)
+
+
+def assert_refused(tmp_path, old, new, key, value, problem):
+    """TANK with `old` replaced by `new` is refused: FILE: KEY = VALUE: ...PROBLEM..."""
     assert old in TANK
     path = scene_file(tmp_path, TANK.replace(old, new, 1))
     with pytest.raises(SceneFileError) as err:
@@ -197,8 +215,60 @@ def test_the_command_line_refuses_a_bad_file_before_writing_anything(tmp_path, c
     assert f"{path}: probes[0].at = [0.5, 7.0]" in capsys.readouterr().err
     assert not out.exists()
     assert cli([str(scene_file(tmp_path)), "--out", str(out), "--set", "solver='isph'"]) == 2
-    assert "solver = 'isph': expected one of 'wcsph', 'dfsph'" in capsys.readouterr().err
+    assert "solver = 'isph': must be one of 'wcsph', 'dfsph'" in capsys.readouterr().err
     assert not out.exists()
+
+
+# Values issue 24's fuzzing of the shipped scene files found accepted (or leaking numpy's
+# "Maximum allowed size exceeded"): each is refused with the key, the value and its range.
+ABSURD = [  # (old text, new text, key, value shown, problem)
+    ('frames = 2', 'frames = 2\nh_factor = 1e30', "h_factor", "1e+30", "must be in (0.5, 3]"),
+    ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81]\ndelta = 1e300', "physics.delta", "1e+300", "must be in [0, 1]"),
+    ('gravity = [0.0, -9.81]', 'gravity = [1e300, -9.81]', "physics.gravity[0]", "1e+300",
+     "must be in [-1000, 1000]"),
+    ('t_end = 0.2', 't_end = 1e30', "t_end", "1e+30", "must be in (0, 100000]"),
+    ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81]\nalpha = 1e300', "physics.alpha", "1e+300", "must be in [0, 2]"),
+    ('gravity = [0.0, -9.81]', 'gravity = [0.0, -9.81]\nxsph = 2.0', "physics.xsph", "2.0", "must be in [0, 1]"),
+    ('frames = 2', 'frames = 10000000000', "frames", "10000000000", "must be an integer in [0, 100000]"),
+    ('gravity = [0.0, -9.81]', 'gravity = [0.0, nan]', "physics.gravity[1]", "nan", "must be in [-1000, 1000]"),
+    ('name = "water"', 'name = "water"\nc0 = 1e300', "materials[0].c0", "1e+300", "must be in (0, 100000]"),
+    ('name = "water"', 'name = "water"\ngamma = 1e300', "materials[0].gamma", "1e+300", "must be in (0, 20]"),
+    ('material = "water"', 'velocity = [1e300, 0.0]', "fluid[0].velocity[0]", "1e+300", "must be in [-10000, 10000]"),
+    ('dx = 0.05', 'dx = 1e-7', "dx", "1e-07", "fills fluid[0].box, walls[0].box, walls[1].polygon with 1.54e+14 "
+                                              "particles, which need at least"),
+    ('box = [[0.0, 0.0], [1.0, 0.5]]', 'box = [[0.0, 0.0], [1e300, 0.5]]', "dx", "0.05", "particles, which need at"),
+]
+
+
+@pytest.mark.parametrize("old, new, key, value, problem", ABSURD, ids=[m[2] for m in ABSURD])
+def test_absurd_values_are_refused_with_the_key_and_the_range(tmp_path, old, new, key, value, problem):
+    """The ranges are those the cases declare for the same quantities
+    (taisph.scene.parameters), so the command line, a case and a scene file say the
+    same: dam_break(h_factor=1e30) is 'h_factor must be in (0.5, 3], got 1e+30'."""
+    assert_refused(tmp_path, old, new, key, value, problem)
+
+
+def test_the_same_range_says_the_same_thing_everywhere(tmp_path, capsys):
+    """h_factor = 1e30 from a scene file, a case parameter and the command line: one
+    range (taisph.scene.parameters.smoothing_factor), one wording."""
+    from taisph.scene.parameters import ParameterError
+
+    path = scene_file(tmp_path, TANK.replace("frames = 2", "frames = 2\nh_factor = 1e30"))
+    with pytest.raises(SceneFileError, match=re.escape("h_factor = 1e+30: must be in (0.5, 3]")):
+        read(path)
+    with pytest.raises(ParameterError, match=re.escape("h_factor must be in (0.5, 3], got 1e+30")):
+        taisph.cases.dam_break(h_factor=1e30)
+    assert cli([str(scene_file(tmp_path)), "--set", "h_factor=1e30", "--no-output"]) == 2
+    assert "h_factor = 1e+30: must be in (0.5, 3]" in capsys.readouterr().err
+    assert cli(["dam_break", "--set", "h_factor=1e30", "--no-output"]) == 2
+    assert "h_factor must be in (0.5, 3], got 1e+30" in capsys.readouterr().err
+
+
+def test_a_scene_file_without_a_solver_is_wcsph(tmp_path):
+    spec = read(scene_file(tmp_path, TANK.replace('solver = "wcsph"\n', "")))
+    assert spec.solver == "wcsph"
+    scene, settings = load(scene_file(tmp_path, TANK.replace('solver = "wcsph"\n', "")))
+    assert scene.solver == settings.solver == "wcsph"
 
 
 @pytest.mark.parametrize("length", [1.0, 1.03])
@@ -305,3 +375,169 @@ def test_mesh_fluid_blocks_and_obstacles_that_win_over_the_fluid(tmp_path):
     rock = spec.walls[1].surface
     assert scene.n_fluid == 20 * 15 - int(contains(rock, taisph.geometry.lattice([0, 0], [1, 0.75], 0.05)).sum())
     assert not contains(rock, scene.position[: scene.n_fluid]).any() and scene.n_fluid < 300
+
+
+# --- issue 24: open tanks, escaped particles, solid obstacles, probes whatever the frames -------------
+THROWN = """\
+name = "thrown"
+description = "water thrown over the low right wall of an open tank"
+dim = 2
+dx = 0.05
+t_end = 0.5
+frames = 2
+
+[[fluid]]
+box = [[0.5, 0.0], [0.9, 0.2]]
+velocity = [2.0, 3.0]
+
+[[walls]]
+name = "tank"
+box = [[0.0, 0.0], [1.0, 0.3]]
+"""
+
+
+def test_water_thrown_over_an_open_tank_is_removed_and_counted(tmp_path, capsys):
+    """A tank's open top is an open face of the domain (as the built-in dam break's) and
+    remove_escaped defaults to true: water thrown over the 0.3 m wall flies above the
+    domain's top and leaves by its side; the run reaches t_end, the header says so and the
+    summary counts the particles removed (measured: 12 of 32). remove_escaped = false
+    stops the run with the guard's diagnosis (exit code 3)."""
+    path = scene_file(tmp_path, THROWN)
+    scene, _ = load(path)
+    assert scene.open_faces == ("+y",) and scene.remove_escaped
+    assert cli([str(path), "--no-output", "--no-progress"]) == 0
+    printed = capsys.readouterr().out
+    assert "open at +y: particles may leave and come back there" in printed
+    assert "particles that leave the domain elsewhere are removed and counted" in printed
+    removed = re.search(r"t = 0.5 s.* removed \((\d+) particles left the domain\)", printed)
+    assert removed and 0 < int(removed[1]) < scene.n_fluid, printed
+    assert not load(path, {"remove_escaped": False})[0].remove_escaped
+    assert cli([str(path), "--no-output", "--no-progress", "--set", "remove_escaped=false"]) == 3
+    captured = capsys.readouterr()
+    assert "removed and counted" not in captured.out
+    assert "tripped the guards (left the domain)" in captured.err
+    closed = load(scene_file(tmp_path, THROWN + "open_top = false\n"))[0]  # a closed tank: no open face
+    assert closed.open_faces == ()
+
+
+OBSTACLE = TANK.replace("dx = 0.05", "dx = 0.04").replace("[1.0, 1.0]", "[1.6, 0.8]")
+OBSTACLE = OBSTACLE.replace("[[0.0, 0.0], [1.0, 0.5]]", "[[0.0, 0.0], [1.2, 0.6]]")
+
+
+def _block(box, extra=""):
+    """The tank file with walls[1] a box (and `extra` keys) instead of the rock."""
+    return OBSTACLE.replace('polygon = [[0.4, 0.6], [0.6, 0.6], [0.5, 0.8]]', f"box = {box}{extra}").replace(
+        'name = "rock"', 'name = "block"')
+
+
+def _header(path, capsys):
+    assert cli([str(path), "--t-end", "0.001", "--no-output", "--no-progress"]) == 0
+    return capsys.readouterr().out
+
+
+def test_a_box_obstacle_is_solid_and_removes_the_water_it_overlaps(tmp_path, capsys):
+    """kind = "obstacle": the box's dummy-wall layers lie inside it (the outer layer dx/2
+    inside each face, 3 layers dx apart inward for the cubic spline with h = 1.3 dx),
+    the water it overlaps is removed, and the header says both. The user's box of issue
+    24 (0.66..0.82 x 0..0.16 at dx = 0.04, its faces half-way between lattice planes):
+    its faces move to the lattice (by dx/2), its particles lie in the closed box, no water
+    inside it. Without the kind that file is refused: its walls would lie on the water."""
+    dx = 0.04
+    path = scene_file(tmp_path, _block("[[0.64, 0.0], [0.96, 0.32]]", '\nkind = "obstacle"'), "aligned.toml")
+    scene, settings = load(path)
+    walls = scene.position[settings.wall_groups["block"]]
+    lo, hi = np.array([0.64, 0.0]), np.array([0.96, 0.32])
+    depth = np.min(np.concatenate([walls - lo, hi - walls], axis=1), axis=1)  # to the nearest face
+    assert len(walls) == 8 * 8 - 2 * 2  # the 8 x 8 cells less the 2 x 2 core deeper than 3 layers
+    np.testing.assert_allclose(np.unique(depth.round(12)), [dx / 2, 1.5 * dx, 2.5 * dx])
+    fluid = scene.position[: scene.n_fluid]
+    assert not np.any(np.all((fluid > lo) & (fluid < hi), axis=1))
+    assert scene.n_fluid == 30 * 15 - 8 * 8
+    note = "wall group block: 60 particles (solid obstacle, 3 layers inside it; 64 fluid particles it overlapped removed)"
+    assert note in settings.notes
+    assert note in _header(path, capsys)
+    # the issue's box, its faces off the lattice
+    lo, hi = np.array([0.66, 0.0]), np.array([0.82, 0.16])
+    user = _block("[[0.66, 0.0], [0.82, 0.16]]", "\nopen_top = false")
+    scene, settings = load(scene_file(tmp_path, user, "user.toml"), {"walls[1].kind": "obstacle"})
+    walls, fluid = scene.position[settings.wall_groups["block"]], scene.position[: scene.n_fluid]
+    assert np.all((walls >= lo - 1e-9) & (walls <= hi + 1e-9)) and len(walls) == 16
+    assert not np.any(np.all((fluid > lo + 1e-9) & (fluid < hi - 1e-9), axis=1))
+    assert scene.n_fluid == 30 * 15 - 16
+    with pytest.raises(SceneFileError, match=re.escape("walls[1].box = [[0.66, 0.0], [0.82, 0.16]]: the walls of this "
+                                                       "tank, outside the box, lie on 54 fluid particles; for a solid "
+                                                       "obstacle (wall layers inside it, the fluid it overlaps removed) "
+                                                       'set kind = "obstacle"')):
+        load(tmp_path / "user.toml")
+    # Lennard-Jones walls: the obstacle is its closed surface, dx/2 apart, on the faces
+    scene, settings = load(path, {"walls[0].model": "lj", "walls[1].model": "lj"})
+    walls = scene.position[settings.wall_groups["block"]]
+    assert np.all((walls >= [0.64, 0.0]) & (walls <= [0.96, 0.32])) and np.isclose(walls[:, 1].max(), 0.32)
+    assert scene.n_fluid == 30 * 15 - 8 * 8
+
+
+def test_a_box_that_holds_no_water_must_say_what_it_is(tmp_path):
+    """A box without a kind is a tank (its layers outside it): one away from the water (an
+    obstacle on the floor, say) is refused with what to write, and kind = "tank" (an empty
+    tank) or kind = "obstacle" builds it."""
+    text = _block("[[1.4, 0.0], [1.56, 0.2]]")
+    with pytest.raises(SceneFileError, match=re.escape("walls[1].box = [[1.4, 0.0], [1.56, 0.2]]: a tank (its wall "
+                                                       "layers outside the box) with no fluid in it or above it; for a "
+                                                       'solid obstacle')):
+        load(scene_file(tmp_path, text))
+    tank = load(scene_file(tmp_path, text.replace('name = "block"', 'name = "block"\nkind = "tank"')))
+    obstacle = load(scene_file(tmp_path, text.replace('name = "block"', 'name = "block"\nkind = "obstacle"')))
+    assert tank[0].position[tank[1].wall_groups["block"], 1].min() < 0  # layers outside, below the floor
+    assert obstacle[0].position[obstacle[1].wall_groups["block"], 1].min() > 0
+
+
+def test_a_polygon_obstacle_is_solid_and_removes_the_water_it_overlaps(tmp_path, capsys):
+    """A 2D polygon in the water at dx = 0.04: its wall particles are the lattice points
+    inside it within 3 dx of its outline (its floor-side face on a lattice plane: the outer
+    layer dx/2 above it), no water is left inside it, and the header counts both."""
+    dx = 0.04
+    polygon = [[0.5, 0.0], [0.9, 0.0], [0.8, 0.3], [0.6, 0.24]]
+    path = scene_file(tmp_path, OBSTACLE.replace("[[0.4, 0.6], [0.6, 0.6], [0.5, 0.8]]", str(polygon)))
+    spec, (scene, settings) = read(path), load(path)
+    rock = spec.walls[1].surface
+    walls, fluid = scene.position[settings.wall_groups["rock"]], scene.position[: scene.n_fluid]
+    assert contains(rock, walls).all()
+    assert distance_to_surface(rock, walls).max() <= 3 * dx + 1e-9 and np.isclose(walls[:, 1].min(), dx / 2)
+    assert not contains(rock, fluid).any()
+    removed = 30 * 15 - scene.n_fluid
+    assert removed == int(contains(rock, taisph.geometry.lattice([0, 0], [1.2, 0.6], dx)).sum()) > 0
+    note = (f"wall group rock: {len(walls)} particles (solid obstacle, 3 layers inside it; {removed} fluid particles "
+            "it overlapped removed)")
+    assert note in _header(path, capsys)
+
+
+def test_probes_are_written_whatever_the_frames(tmp_path, capsys):
+    """--no-output writes no frames but the probes still go to OUT/probes.csv; frames = 0
+    (in the file or --set) writes the initial frame only, and the probes."""
+    path = scene_file(tmp_path, TANK)
+    out = tmp_path / "none"
+    assert cli([str(path), "--t-end", "0.002", "--out", str(out), "--no-output", "--no-progress"]) == 0
+    assert f"probes to {out / 'probes.csv'}: bottom (pressure)" in capsys.readouterr().out
+    assert sorted(p.name for p in out.iterdir()) == ["probes.csv"]
+    assert len((out / "probes.csv").read_text().splitlines()) > 2
+    out = tmp_path / "initial"
+    assert cli([str(path), "--t-end", "0.002", "--out", str(out), "--set", "frames=0", "--no-progress"]) == 0
+    assert "steps to t = 0.002 s" in capsys.readouterr().out
+    assert sorted(p.name for p in out.iterdir()) == ["probes.csv", "tank.pvd", "tank_00000.vtu", "walls.vtu"]
+    scene, settings = load(path, {"frames": 0})
+    assert (settings.frames, scene.frames) == (0, 1)  # the scene's frames stay >= 1 (sweeps run them)
+
+
+def test_a_case_run_with_zero_frames_writes_the_initial_frame_only(tmp_path, capsys):
+    """--frames 0 for a case, and Simulation.run(frames=0) from Python: the initial frame,
+    the run to t_end, nothing written at t_end."""
+    out = tmp_path / "case"
+    assert cli(["hydrostatic_tank", "--dx", "0.1", "--t-end", "0.002", "--frames", "0", "--out", str(out),
+                "--no-progress"]) == 0
+    assert "steps to t = 0.002 s" in capsys.readouterr().out
+    assert sorted(p.name for p in out.iterdir()) == ["hydrostatic_tank.pvd", "hydrostatic_tank_00000.vtu", "walls.vtu"]
+    sim = taisph.Simulation(taisph.cases.hydrostatic_tank(dx=0.1))
+    summary = sim.run(0.002, frames=0, out=tmp_path / "api")
+    assert sim.time == pytest.approx(0.002) and summary.frames == 1  # the frames written: the initial one
+    assert sorted(p.name for p in (tmp_path / "api").iterdir()) == [
+        "hydrostatic_tank.pvd", "hydrostatic_tank_00000.vtu", "walls.vtu"]

@@ -182,7 +182,7 @@ def test_frames_open_in_vtk(tmp_path, case, params):
     vtkio = pytest.importorskip("vtkmodules.vtkIOXML")
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
-    from taisph.io import vtk
+    from taisph.run import vtk
 
     scene = taisph.cases.CASES[case](**params)
     sim = taisph.Simulation(scene)

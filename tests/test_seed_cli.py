@@ -10,9 +10,10 @@ import pytest
 import taisph
 from taisph.engine.timestep import fixed_dt
 import taisph.geometry
-from taisph import seed
+from taisph.formats import seed
 from taisph.cli import main as cli
-from taisph.io import dat as seedio, vtk
+from taisph.formats import dat as seedio
+from taisph.run import vtk
 from taisph.eos import tait
 
 

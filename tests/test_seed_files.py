@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from taisph.cli import main as cli
-from taisph.io import dat as seedio
+from taisph.formats import dat as seedio
 
 GOOD = "2\n0 0.1 0.2 0 0 0.4 1000 0 0\n1 0.3 0.2 0 0 0.4 1000 0 0\n"
 

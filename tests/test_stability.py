@@ -1,6 +1,7 @@
 """Hard cases stay numerically stable: adaptive time step, guards, restarts, and a
 suite of violent, long and degenerate scenes asserting invariants."""
 
+import json
 import warnings
 
 import meshio
@@ -11,12 +12,12 @@ from hypothesis import strategies as st
 
 import taisph
 from taisph.cli import main as cli
-from taisph import simulation
-from taisph.io import vtk
+from taisph.run import simulation
+from taisph.run import vtk
 from taisph.engine.layout import FLUID, REMOVED
 from taisph.eos import Tait, tait
 from taisph.geometry import box_walls, lattice, wall_layers
-from taisph.simulation import SimulationError
+from taisph.run.simulation import SimulationError
 from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
 
 G = 9.81
@@ -351,8 +352,6 @@ def test_restart_with_parallel_sort_matches_to_round_off(tmp_path, monkeypatch):
 def test_cli_checkpoint_and_resume(tmp_path, capsys):
     """`--checkpoint-every` then `resume`: a run cut after frame 2 and resumed writes
     the same last frame, bit for bit, as the uninterrupted run, and a complete index."""
-    import pickle
-
     common = ["--dx", "0.1", "--no-progress", "--checkpoint-every", "2"]
     full = tmp_path / "full"
     assert cli.main(["dam_break", "--t-end", "0.04", "--frames", "4", "--out", str(full)] + common) == 0
@@ -360,10 +359,10 @@ def test_cli_checkpoint_and_resume(tmp_path, capsys):
     cut = tmp_path / "cut"
     assert cli.main(["dam_break", "--t-end", "0.02", "--frames", "2", "--out", str(cut)] + common) == 0
     # make the checkpoint of the short run look like one written mid-way by the long run
-    meta_path = cut / "checkpoint" / "meta.pickle"
-    meta = pickle.loads(meta_path.read_bytes())
-    meta["t_end"], meta["frames_left"] = 0.04, 2
-    meta_path.write_bytes(pickle.dumps(meta))
+    meta_path = cut / "checkpoint" / "meta.json"
+    meta = json.loads(meta_path.read_text())
+    meta["run"]["t_end"], meta["run"]["frames_left"] = 0.04, 2
+    meta_path.write_text(json.dumps(meta))
     assert cli.main(["resume", str(cut / "checkpoint"), "--no-progress"]) == 0
     resumed = meshio.read(cut / "dam_break_00004.vtu")
     np.testing.assert_array_equal(resumed.points, final.points)

@@ -9,6 +9,7 @@ the simulated time, the validation error and a guard's diagnosis must be the sam
 
 import csv
 import logging
+import re
 import socket
 import subprocess
 import sys
@@ -18,7 +19,7 @@ import pytest
 import taisph
 from taisph import validation
 from taisph.cli.main import main as cli
-from taisph.simulation import SimulationError
+from taisph.run.simulation import SimulationError
 from taisph.sweeps import SweepError
 
 distributed = pytest.importorskip("distributed", reason="the sweep extra: pip install 'taisph[sweep]'")
@@ -216,7 +217,7 @@ def test_cli_sweeps_a_scene_file(tmp_path, capsys):
                 "--workers", "1", "--out", str(out), "--no-progress"])
     printed = capsys.readouterr().out
     assert code == 0, printed
-    from taisph.scenefile import load
+    from taisph.formats.scenefile import load
 
     for row in read_csv(out):
         assert row["status"] == "ok" and row["error"] == "nan"
@@ -238,8 +239,8 @@ def test_cli_sweeps_a_scene_file(tmp_path, capsys):
     ([CASE, "--vary", "precision=f16"], "precision: cannot read 'f16'"),
     ([CASE, "--vary", "dx=0.1,-0.05"], "hydrostatic_tank: dx must be > 0, got -0.05"),  # the case's declared range
     ([CASE, "--vary", "samples=0"], "hydrostatic_tank: samples must be an integer >= 1, got 0"),
-    ([CASE, "--vary", "dx=0.1", "--set", "alpha=abc"], "--set alpha=abc: alpha must be >= 0"),  # as CASE --set
-    ([CASE, "--vary", "dx=0.1", "--set", "alpha=-1"], "hydrostatic_tank: alpha must be >= 0, got -1.0"),
+    ([CASE, "--vary", "dx=0.1", "--set", "alpha=abc"], "--set alpha=abc: alpha must be in [0, 2]"),  # as CASE --set
+    ([CASE, "--vary", "dx=0.1", "--set", "alpha=-1"], "hydrostatic_tank: alpha must be in [0, 2], got -1.0"),
     ([CASE, "--vary", "dx=0.1", "--bogus"], "unrecognized arguments: --bogus"),
     ([CASE, "--vary", "dt=1e-4,1e-3"], "dt: not available when each run is hydrostatic_tank's validation"),
     (["dam_break", "--vary", "dx=0.1", "--t-end", "0.1"], "t_end: dam_break's validation runs to T_end"),
@@ -264,3 +265,25 @@ def test_import_taisph_does_not_import_dask():
     code = ("import sys, taisph; assert 'distributed' not in sys.modules and 'dask' not in sys.modules; "
             "assert taisph.sweep.__module__ == 'taisph.sweeps'")
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, timeout=120)
+
+
+def test_a_scene_file_factory_declares_its_signature_and_ranges():
+    """scene_factory: a signature with the file's values as defaults and the ranges
+    the file's checker uses, checked on every call as a case's are."""
+    import inspect
+
+    from taisph.formats.scenefile import SWEEP_KEYS, scene_factory
+    from taisph.formats.scenefile_spec import RANGES, read
+    from taisph.scene.catalogue import cases_folder
+    from taisph.scene.parameters import ParameterError
+
+    factory = scene_factory("dam_break_probes_2d.toml")
+    spec = read(cases_folder() / "dam_break_probes_2d.toml")
+    assert {k: p.default for k, p in inspect.signature(factory).parameters.items()} == {
+        k: getattr(spec, k) for k in SWEEP_KEYS}
+    assert factory.ranges == {k: RANGES[key] for k, key in SWEEP_KEYS.items()}
+    assert (factory.__name__, factory.courant) == ("dam_break_probes_2d", 0.125)
+    with pytest.raises(ParameterError, match=re.escape("dam_break_probes_2d: delta must be in [0, 1], got 1e+300")):
+        factory(delta=1e300)
+    scene = factory(0.1, alpha=0.05)
+    assert scene.dx == 0.1 and scene.terms_by_name["artificial_viscosity"].values["alpha"] == 0.05

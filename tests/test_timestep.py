@@ -11,7 +11,7 @@ from taisph.engine import kernels
 from taisph.engine.timestep import initial_dt, stable_dt
 from taisph.geometry import lattice
 from taisph.scene import Material, Scene
-from taisph.terms import Continuity, LaminarViscosity, PressureGradient, Term
+from taisph.terms import AdaptiveSmoothingLength, Continuity, Gravity, LaminarViscosity, PressureGradient, Term
 
 
 def periodic_box(nu=None, dx=0.04, c0=10.0, amplitude=0.0):
@@ -37,6 +37,49 @@ def test_the_host_estimate_is_the_devices_first_step():
     sim.step(1)
     assert sim.time == pytest.approx(initial_dt(scene), rel=1e-12)
     sim.close()
+
+
+def test_with_adaptive_h_the_smallest_h_limits_the_step_on_host_and_device():
+    """A smoothing length per particle (adaptive_h): at rest with uniform c0 (no force:
+    the density is rho0 everywhere, the pressure zero), the first adaptive step is
+    0.25 h_min / c0, the smallest h's limit, and the host's estimate (initial_dt,
+    sim.dt) is the same number. The device used the scene's smoothing_length, the cap
+    on h (here 2.5 dx), and took a step 2.5 / 1.2 times the host's."""
+    dx, c0 = 0.04, 10.0
+    scene = Scene("box", dim=2, dx=dx, smoothing_length=2.5 * dx, domain=((0, 0), (1, 1)), periodic=(True, True),
+                  materials=[Material("f", 1.0, c0, 7.0)],
+                  terms=[Continuity(), PressureGradient(), AdaptiveSmoothingLength(h_factor=1.2)])
+    pts = lattice((0, 0), (1, 1), dx)
+    heavy = pts[:, 1] > 0.5  # four times the mass: h = 1.2 (m / rho)^(1/2) = 2.4 dx, the others 1.2 dx
+    scene.add_fluid(pts, mass=np.where(heavy, 4.0, 1.0) * dx * dx, density=1.0)
+    h_min = 1.2 * dx
+    assert initial_dt(scene) == pytest.approx(0.25 * h_min / c0, rel=1e-12)
+    sim = taisph.Simulation(scene)
+    assert sim.dt == pytest.approx(initial_dt(scene), rel=1e-12)
+    sim.step(1)
+    assert sim.time == pytest.approx(initial_dt(scene), rel=1e-12)
+    sim.close()
+
+
+def test_reading_gravity_changes_nothing():
+    """Gravity() given no vector: param_values(dim) is the default of that dimension
+    and leaves the term as it was (it stored the first dimension's vector, so a second
+    read in another dimension failed); initial_dt reads it the same way."""
+    g = Gravity()
+    before = dict(g.values)
+    assert list(g.param_values(2)["gravity"]) == [0.0, -9.81]
+    assert list(g.param_values(3)["gravity"]) == [0.0, -9.81, 0.0]
+    assert g.values == before
+    scene = periodic_box()
+    scene.terms.append(g)
+    scene.validate()  # a scene's check fills in its dimension's default: describe() shows it
+    assert g.describe() == "gravity(gravity=(0, -9.81))"
+    values = dict(g.values)
+    # the force limit alone (a huge Courant number lifts the acoustic one)
+    assert initial_dt(scene, courant=1e9) == pytest.approx(0.25 * math.sqrt(scene.smoothing_length / 9.81), rel=1e-12)
+    assert g.values == values
+    g.values["gravity"] = (1.0, 0.0)  # set (as scene.set does): no longer the default
+    assert list(g.param_values(2)["gravity"]) == [1.0, 0.0]
 
 
 def test_stable_dt_takes_the_smallest_limit():

@@ -59,3 +59,24 @@ def test_dam_break_stays_in_tank_and_conserves_mass():
     assert sim.masses()[sim.fluid].sum() == m0
     front = x[:, 0].max()
     assert 1.5 < front < 1.0 + 2 * np.sqrt(G * 2.0) * 0.3
+
+
+def test_the_standard_water_physics_formulas():
+    """taisph.scene.water: c0 = 10 max(sqrt(2 g H), |v|), D = 5 max(g H, v^2/2) / r0,
+    and a column whose Tait pressure is rho0 g depth; the dam break uses exactly these."""
+    from taisph.eos import tait
+    from taisph.scene import Material
+    from taisph.scene.water import hydrostatic_density, lennard_jones_strength, sound_speed
+
+    assert sound_speed(G, 2.0) == 10.0 * np.sqrt(2.0 * G * 2.0)
+    assert sound_speed(G, 0.1, speed=5.0) == 50.0 and sound_speed(0.0, 1.0) == 0.0
+    assert lennard_jones_strength(G, 2.0, 0.01) == pytest.approx(5.0 * G * 2.0 / 0.01, rel=1e-15)
+    assert lennard_jones_strength(0.0, 1.0, 0.01, speed=2.0) == pytest.approx(5.0 * 2.0 / 0.01, rel=1e-15)
+    water = Material("water", rho0=RHO0, c0=sound_speed(G, 1.0), gamma=7.0)
+    depth = np.linspace(0.0, 1.0, 11)
+    rho = hydrostatic_density(water, G, depth)
+    assert rho[0] == RHO0 and np.all(np.diff(rho) > 0)
+    np.testing.assert_allclose(tait.pressure(rho, RHO0, water.c0, 7.0), RHO0 * G * depth, rtol=1e-9, atol=1e-9)
+    scene = taisph.cases.dam_break(dx=0.1, seed_physics=True)
+    assert scene.materials[0].c0 == sound_speed(G, 2.0)
+    assert scene.terms_by_name["lennard_jones_wall"].values["lj_strength"] == lennard_jones_strength(G, 2.0, 0.05)

@@ -2,10 +2,10 @@
 writes a built-in case as those files.
 
 ``python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL [options]`` reads
-the seed's particle file (and optional boundary file, :mod:`taisph.io.dat`), builds the
-scene with :func:`taisph.seed.load_scene`, and writes ``fluid.dat`` (the seed's text
+the seed's particle file (and optional boundary file, :mod:`taisph.formats.dat`), builds the
+scene with :func:`taisph.formats.seed.load_scene`, and writes ``fluid.dat`` (the seed's text
 output) and ParaView frames. ``python -m taisph export CASE --dat DIR`` writes a
-built-in case with :func:`taisph.seed.export_scene`, plus the exact ``run`` command line
+built-in case with :func:`taisph.formats.seed.export_scene`, plus the exact ``run`` command line
 that reproduces it (``DIR/run.txt``). Details, defaults and examples: ``docs/seed.md``.
 """
 
@@ -17,11 +17,12 @@ import sys
 import time
 from pathlib import Path
 
-from .. import seed
-from ..io import dat as seedio
-from ..parameters import finite, positive
-from . import cases
-from .parser import FRAMES, NON_NEGATIVE, POSITIVE, THREADS, Parser, UsageError, ranged_list
+from ..formats import seed
+from ..formats import dat as seedio
+from ..messages import InputError
+from ..scene.parameters import finite, positive, viscosity_alpha
+from ..scene import catalogue
+from .parser import FRAMES, NON_NEGATIVE, POSITIVE, THREADS, Parser, UsageError, ranged, ranged_list
 
 RUN_USAGE = "python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL [options]"
 RUN_DESCRIPTION = """\
@@ -67,7 +68,8 @@ def run_parser() -> Parser:
                         "auto (default): multiphase if more than one material")
     g = p.add_argument_group("numerics and forces")
     g.add_argument("--h", type=POSITIVE, help="smoothing length (> 0, default 1.3 dx)")
-    g.add_argument("--alpha", type=NON_NEGATIVE, default=0.1, help="artificial viscosity alpha (>= 0, default 0.1)")
+    g.add_argument("--alpha", type=ranged(viscosity_alpha, "alpha"), default=0.1,
+                   help="artificial viscosity alpha (0 to 2, the cases' range; default 0.1)")
     g.add_argument("--beta", type=NON_NEGATIVE, default=0.0, help="artificial viscosity beta (>= 0, default 0)")
     g.add_argument("--eta-factor", type=POSITIVE, default=0.01, help="eta^2 = eta_factor h^2 (> 0, default 0.01)")
     g.add_argument("--gravity", type=NUMBERS, help="gravity vector (default 0,-9.81 in 2D, 0,-9.81,0 in 3D)")
@@ -77,7 +79,7 @@ def run_parser() -> Parser:
     g.add_argument("--domain", type=NUMBERS, help="neighbour grid box lo..hi, e.g. --domain=-1,-1,5,5 "
                                                   "(default: the particles' bounding box)")
     g = p.add_argument_group("output and machine")
-    g.add_argument("--frames", type=FRAMES, default=20, help="output frames after the initial one (>= 1, default 20)")
+    g.add_argument("--frames", type=FRAMES, default=20, help="output frames after the initial one (1 to 1e5, default 20)")
     g.add_argument("--out", type=Path, help="output folder (default out/NAME)")
     g.add_argument("--name", help="name of the run and of its .pvd (default: INIT's file name)")
     g.add_argument("--precision", choices=["f32", "f64"], default="f64")
@@ -126,7 +128,7 @@ def run_main(argv) -> int:
                                         name=args.name)
         return run_files(scene, energy, out=args.out, precision=args.precision, threads=args.threads,
                          progress=not args.no_progress)
-    except (ValueError, KeyError, TypeError) as err:  # SeedFileError, UsageError are ValueErrors
+    except InputError as err:  # SeedFileError, UsageError, ParameterError, a scene refused; others: a traceback
         print(f"taisph run: error: {err}", file=sys.stderr)
         return 2
 
@@ -134,7 +136,7 @@ def run_main(argv) -> int:
 def run_files(scene, energy, out=None, precision="f64", threads=None, progress=True) -> int:
     """Simulate a scene from files and write ``OUT/fluid.dat`` and ParaView frames;
     return the exit code (1: the run was unstable)."""
-    from ..simulation import Simulation, SimulationError
+    from ..run.simulation import Simulation, SimulationError
 
     print(scene.describe())
     print("  pressure column of the input: not used (pressure = Tait EOS of the density); "
@@ -195,11 +197,11 @@ def export_main(argv) -> int:
     try:
         args = export_parser().parse_args(argv)
         integrator = seed.INTEGRATOR_WORDS.get(args.integrator, args.integrator)
-        kwargs = cases.case_arguments(args.case, args.set, dx=args.dx, integrator=integrator, kernel=args.kernel)
-        scene = cases.find(args.case)(**kwargs)
+        kwargs = catalogue.case_arguments(args.case, args.set, dx=args.dx, integrator=integrator, kernel=args.kernel)
+        scene = catalogue.find(args.case)(**kwargs)
         argv_run = seed.export_scene(scene, args.dat, t_end=args.t_end, dt=args.dt, frames=args.frames,
                                      out=args.out)
-    except (ValueError, KeyError, TypeError) as err:
+    except InputError as err:
         print(f"taisph export: error: {err}", file=sys.stderr)
         return 2
     print(f"wrote {scene.n_fluid} fluid particles to {args.dat / 'particles.dat'}"

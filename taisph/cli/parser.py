@@ -2,7 +2,7 @@
 
 :class:`Parser` raises :class:`UsageError` instead of exiting, so each command prints
 the message its way and returns exit code 2 (``--help`` still prints and exits 0).
-:func:`ranged` turns a :class:`taisph.parameters.Range` into an argparse type, so an
+:func:`ranged` turns a :class:`taisph.scene.parameters.Range` into an argparse type, so an
 option out of range is refused with its name, value and range before anything is
 built: ``argument --dx: must be > 0, got -1``.
 """
@@ -11,11 +11,14 @@ from __future__ import annotations
 
 import argparse
 
-from ..parameters import Range, at_least, between, courant_number, integer, positive
+from ..messages import InputError
+from ..scene.parameters import (Range, at_least, between, courant_number, end_time, frame_count, integer, output_frames,
+                                positive)
 
 
-class UsageError(ValueError):
-    """A command line that cannot be run: the message says what and what is allowed."""
+class UsageError(InputError):
+    """A command line that cannot be run: the message says what and what is allowed
+    (an :class:`taisph.messages.InputError`: exit code 2)."""
 
 
 class Parser(argparse.ArgumentParser):
@@ -63,8 +66,11 @@ def ranged_list(rng: Range, what: str = "values"):
 
 # the ranges of options shared by several commands
 POSITIVE = ranged(positive, "positive number")
-FRAMES = ranged(integer(at_least=1), "frames")
+FRAMES = ranged(frame_count, "frames")  # the cases' range of frames
+OUTPUT_FRAMES = ranged(output_frames, "frames")  # a run's: 0 writes the initial frame only
+END_TIME = ranged(end_time, "end time")  # and of t_end
 THREADS = ranged(integer(at_least=1), "threads")
+EVERY = ranged(integer(at_least=1), "count")  # every K frames
 NON_NEGATIVE = ranged(at_least(0), "non-negative number")
 FRACTION = ranged(between(0, 1), "fraction")
 COURANT = ranged(courant_number, "Courant number")

@@ -7,7 +7,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from .parser import Parser
+from ..messages import InputError
+from .case import CONTROLS
+from .parser import Parser, UsageError
 
 EPILOG = """\
 Each combination of the --vary values is one run in a Dask worker process: by default a
@@ -51,10 +53,12 @@ def build_parser() -> Parser:
     g.add_argument("--integrator", help="time integrator")
     g.add_argument("--kernel", help="smoothing kernel")
     g.add_argument("--dt", help="fixed time step (s); default: adaptive")
-    g.add_argument("--courant", help="Courant number of the adaptive step (default 0.25, or the scene file's)")
+    g.add_argument("--courant", help=f"Courant number of the adaptive step (default {CONTROLS['courant']:g}, or "
+                                     "the scene file's)")
     g.add_argument("--precision", help="f32 or f64 (default f64)")
     g.add_argument("--neighbour-skin", help="neighbour list skin (default 0: no lists)")
-    g.add_argument("--max-density-error", help="guard: stop when |rho/rho0 - 1| exceeds this (default 0.2)")
+    g.add_argument("--max-density-error", help="guard: stop when |rho/rho0 - 1| exceeds this (default "
+                                               f"{CONTROLS['max_density_error']:g})")
     g.add_argument("--deterministic", action="store_true", help="bit-for-bit reproducible runs")
     g.add_argument("--remove-escaped", action="store_true", help="remove particles that leave the domain")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="any case parameter; repeatable")
@@ -75,9 +79,9 @@ def build_parser() -> Parser:
 def fixed_values(args) -> dict:
     """The values every run shares: the options as text (parsed by the sweep against
     the case), ``--set`` of a case parameter parsed as the case command parses it
-    (:func:`taisph.cli.cases.parse_setting`), ``--set`` of a run setting or validation
+    (:func:`taisph.scene.catalogue.parse_setting`), ``--set`` of a run setting or validation
     keyword as text."""
-    from . import cases
+    from ..scene import catalogue
 
     fixed = {}
     for option in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant", "precision", "neighbour_skin",
@@ -95,11 +99,11 @@ def fixed_values(args) -> dict:
         name, sep, value = item.partition("=")
         name = name.strip().replace("-", "_")
         if not sep or not name:
-            raise ValueError(f"--set expects NAME=VALUE, got {item!r}")
+            raise UsageError(f"--set expects NAME=VALUE, got {item!r}")
         if name in fixed:
-            raise ValueError(f"{name} is given twice")
+            raise UsageError(f"{name} is given twice")
         known = name in parameters and not scene_file  # a scene file's are parsed by the sweep
-        fixed[name] = cases.parse_setting(args.case, item)[1] if known else value.strip()
+        fixed[name] = catalogue.parse_setting(args.case, item)[1] if known else value.strip()
     return fixed
 
 
@@ -114,7 +118,7 @@ def main(argv) -> int:
         rows = sweep(args.case, vary, out=args.out, workers=args.workers, scheduler=args.scheduler,
                      validate=False if args.no_validate else None, frames_per_run=args.frames_per_run,
                      retry_failed=args.retry_failed, progress=not args.no_progress, **fixed)
-    except (SweepError, ValueError) as err:
+    except (SweepError, InputError) as err:  # refused input; anything else is a fault of taisph: a traceback
         print(f"taisph sweep: error: {err}", file=sys.stderr)
         return 2
     failed = sum(row["status"] != "ok" for row in rows)

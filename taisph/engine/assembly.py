@@ -6,11 +6,11 @@ integrator, the neighbour grid, the time step and the guards to those rows, and
 compiles the step's kernels (:mod:`.kernels` says what each does) with the one
 kernel signature, :class:`Args`.
 
-Kernels take Taichi ndarrays as arguments, so one compiled kernel serves simulations
-of every size; a solver is cached per compile-time configuration (dimension,
-precision, kernel, integrator, equation of state, terms and their options, periodic
-axes, neighbour lists), so changing a parameter value or the particle count never
-recompiles.
+A solver is cached per compile-time configuration (dimension, precision, kernel,
+integrator, equation of state, terms and their options, periodic axes, neighbour
+lists); its kernels are compiled for the Taichi fields of a :class:`.fields.FieldSet`,
+pooled per configuration and size class, so changing a parameter value or the
+particle count within a size class never recompiles.
 """
 
 import collections
@@ -18,8 +18,18 @@ import collections
 import numpy as np
 import taichi as ti
 
-from . import dfsph, guards, integrators, kernels, neighbours, pairs, runtime, smoothing, timestep
+from . import guards, integrators, kernels, neighbours, runtime, smoothing, timestep
+from .dfsph import solver as dfsph
+from .dfsph import pairs
 from .layout import Layout
+from ..scene.solvers import dfsph_kept_terms
+
+
+class Buffers(collections.namedtuple("Buffers", "v s i")):
+    """One copy of the particle state: the fields of its vectors, scalars and integers,
+    each ``[row, particle]`` (:mod:`.layout`)."""
+
+    __slots__ = ()
 
 
 class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill "
@@ -31,11 +41,36 @@ class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count 
     Sv, Ss, Si     the same, cell-sorted (scratch of the step: the rates are computed from S)
     cell_of        cell of each particle; cell_count, cell_start (n_cells + 1), cell_fill: the sort
     params         runtime parameters (:meth:`Solver.param_table`); mat: material table
-    sizes          grid shape and counts: (n0, n1, n2, n_cells, n_particles, list_capacity)
+    sizes          grid shape and counts (indices in :mod:`.status`: GRID_SHAPE, N_CELLS, ...)
     status, flags  device clock, dt history and guard flags (:mod:`.status`)
     x_ref, nlist, ncount   neighbour lists (a dummy row without lists; :mod:`.neighbours`)
     aux_int, aux_real   outputs of auxiliary kernels (neighbour pairs, probes); dummies in a step
     """
+
+    __slots__ = ()
+    AUX = ("aux_int", "aux_real")
+
+    @property
+    def C(self) -> Buffers:
+        """The current state (Cv, Cs, Ci)."""
+        return Buffers(self.Cv, self.Cs, self.Ci)
+
+    @property
+    def S(self) -> Buffers:
+        """The cell-sorted state (Sv, Ss, Si)."""
+        return Buffers(self.Sv, self.Ss, self.Si)
+
+    def with_C(self, buffers: Buffers) -> "Args":
+        """These fields with `buffers` in place of the current state."""
+        return self._replace(Cv=buffers.v, Cs=buffers.s, Ci=buffers.i)
+
+    def with_S(self, buffers: Buffers) -> "Args":
+        """These fields with `buffers` in place of the cell-sorted state."""
+        return self._replace(Sv=buffers.v, Ss=buffers.s, Si=buffers.i)
+
+    def state_fields(self) -> tuple:
+        """The fields of the state, all but the auxiliary kernels' outputs."""
+        return tuple(getattr(self, name) for name in self._fields if name not in self.AUX)
 
 
 class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic lists solver")):
@@ -44,7 +79,7 @@ class Config(collections.namedtuple("Config", "dim kernel integrator eos terms p
 
 def config_of(scene) -> Config:
     solver = getattr(scene, "solver", "wcsph")
-    terms = dfsph.kept_terms(scene) if solver == "dfsph" else scene.terms
+    terms = dfsph_kept_terms(scene) if solver == "dfsph" else scene.terms
     return Config(
         dim=scene.dim,
         kernel=scene.kernel,
@@ -81,7 +116,7 @@ class Solver:
         self.real = real = rt.real
         self.kernel = smoothing.make(scene.kernel, dim)
         self.sigma = self.kernel.sigma(dim)
-        # DFSPH (engine/dfsph.py): the scene's non-pressure terms, no equation of state, its own step
+        # DFSPH (engine/dfsph/solver.py): the scene's non-pressure terms, no equation of state, its own step
         self.dfsph = getattr(scene, "solver", "wcsph") == "dfsph"
         terms = self.active_terms(scene)
         eos = dfsph.Incompressible() if self.dfsph else scene.eos
@@ -145,7 +180,7 @@ class Solver:
         self.grid = neighbours.Grid(dim, real, rows, scene.periodic, self.lists,
                                     layout.q.kind if walls_short else None)
         viscosity_rows = [rows[t.viscosity_param] for t in terms if t.viscosity_param]
-        if self.dfsph:  # artificial viscosity's equivalent (engine/dfsph.py)
+        if self.dfsph:  # artificial viscosity's equivalent (engine/dfsph/solver.py)
             viscosity_rows.append(rows["dfsph_nu_art"])
         self.timestep = timestep.TimeStep(rows, self.eos, viscosity_rows)
         self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic,
@@ -162,14 +197,14 @@ class Solver:
 
     def active_terms(self, scene) -> list:
         """The scene's terms compiled into this solver's kernels (DFSPH: its non-pressure ones)."""
-        return dfsph.kept_terms(scene) if self.dfsph else list(scene.terms)
+        return dfsph_kept_terms(scene) if self.dfsph else list(scene.terms)
 
     def extra_fields(self, field, capacity, list_capacity):
         """Fields a solver needs beyond :class:`Args` (DFSPH: its pair list and error sums), or None."""
         if not self.dfsph:
             return None
-        return dfsph.Extra(pairs.allocate(field, capacity, list_capacity, self.real),
-                           field(ti.f64, (dfsph.CHUNKS, 2)), field(ti.f64, (4,)))
+        return dfsph.Extra(pairs=pairs.allocate(field, capacity, list_capacity, self.real),
+                           part=field(ti.f64, (dfsph.CHUNKS, 2)), result=field(ti.f64, (4,)))
 
     # ------------------------------------------------------------------------
     def param_table(self, scene, grid_lo, grid_cell, controls, dt=None) -> np.ndarray:
@@ -233,7 +268,7 @@ class Solver:
 
     def step_kernels(self, fields, serial_sort: bool) -> tuple:
         """The kernels of one step on `fields` (a FieldSet), in order: sort, the passes, force
-        (DFSPH: one callable, :class:`taisph.engine.dfsph.Stepper`, which iterates its solves)."""
+        (DFSPH: one callable, :class:`taisph.engine.dfsph.solver.Stepper`, which iterates its solves)."""
         if self.dfsph:
             return fields.kernel(("dfsph", serial_sort), lambda args: (dfsph.Stepper(self, fields, serial_sort),))
 
@@ -249,7 +284,7 @@ class Solver:
         copy of the last good state."""
         def build(args):
             if good:
-                args = args._replace(Cv=fields.good[0], Cs=fields.good[1], Ci=fields.good[2])
+                args = args.with_C(fields.good)
             return self.make_kernel(kernels.pressure_body(self))(args)
 
         return fields.kernel(("pressure", good), build)
@@ -257,7 +292,7 @@ class Solver:
     def copy_kernel(self, fields):
         """Copies the current state to the last-good copy (particles in use only)."""
         return fields.kernel("keep_good", lambda args: self.make_kernel(
-            kernels.copy_body(self, args[:3], fields.good))(args))
+            kernels.copy_body(self, args.C, fields.good))(args))
 
     def pair_kernels(self, fields):
         """(count, list) kernels of the neighbour pairs (:func:`kernels.pairs_body`)."""

@@ -14,6 +14,7 @@ import numpy as np
 from . import guards
 from . import status as st
 from .layout import FLUID
+from ..scene.names import INTEGRATORS
 
 
 class SimulationError(RuntimeError):
@@ -30,17 +31,25 @@ class SimulationError(RuntimeError):
 
 def fail(sim, folder=None):
     """Collect, write the evidence (to `folder`, or a new temporary folder: a run with
-    no output folder does not litter the working directory) and raise SimulationError."""
+    no output folder does not litter the working directory) and raise SimulationError.
+
+    The diagnosis outlives the evidence: if writing it fails (a full disk, a folder
+    that cannot be written), the SimulationError says so and why, and lists only the files
+    that were written."""
     import tempfile
 
     report = collect(sim)
-    files = []
-    folder = Path(tempfile.mkdtemp(prefix=f"taisph-{sim.scene.name}-")) if folder is None else folder
+    files, lost = [], None
     try:
-        files = write_evidence(sim, report, folder)
-    finally:
-        message = explain(sim, report, files)
-    raise SimulationError(message, report, files)
+        folder = Path(tempfile.mkdtemp(prefix=f"taisph-{sim.scene.name}-")) if folder is None else folder
+        write_evidence(sim, report, folder, files)
+    except Exception as err:  # noqa: BLE001 -- any failure here must not replace the diagnosis
+        lost = err
+    message = explain(sim, report, files)
+    if lost is not None:
+        where = f" to {folder}" if folder is not None else ""
+        message += f"\nthe evidence could not be written{where}: {type(lost).__name__}: {lost}"
+    raise SimulationError(message, report, files) from lost
 
 
 def collect(sim) -> dict:
@@ -83,7 +92,7 @@ def collect(sim) -> dict:
         max_density_error=sim.controls.max_density_error,
         density_error=float(density_error),
         solver=getattr(sim.scene, "solver", "wcsph"),
-        # DFSPH: the solve that did not converge (taisph.engine.dfsph.Stats.failure)
+        # DFSPH: the solve that did not converge (taisph.engine.dfsph.solver.Stats.failure)
         pressure_solve=dict(sim.pressure_solve.stats.failure) if sim.solver.dfsph else {},
     )
 
@@ -100,7 +109,7 @@ def likely_causes(sim, report) -> list:
             f"(dt_max, e.g. {0.5 * failure['dt']:.2g} s), a smaller CFL number (courant, now {c.courant:g}) or force "
             f"factor (now {c.force_factor:g}), or allow more iterations (dfsph_max_iterations)")
     if "neighbour list full" in report["codes"]:
-        causes.append("a particle had more neighbours than DFSPH's pair list holds (taisph.engine.pairs): particles "
+        causes.append("a particle had more neighbours than DFSPH's pair list holds (taisph.engine.dfsph.pairs): particles "
                       "were crushed together, or the walls are sampled more finely than dx (DFSPH needs wall particles "
                       "dx apart, e.g. dummy-wall layers)")
     fixed = report["dt_fixed"]
@@ -110,7 +119,7 @@ def likely_causes(sim, report) -> list:
             f"(CFL {sim.controls.courant} h/(c+|v|) and force {sim.controls.force_factor} sqrt(h/|a|)): "
             "use a smaller --dt, or none for the adaptive step"
         )
-    if report["integrator"] in ("euler", "eulermid", "eulermom"):
+    if report["integrator"] in INTEGRATORS and report["integrator"] != "pc":  # the Euler family
         causes.append(
             f"the {report['integrator']} integrator updates density with the old velocity, which lets "
             "the acoustic oscillation of weakly compressible SPH grow: use --integrator pc, or a much "
@@ -170,13 +179,15 @@ def explain(sim, report, files=()) -> str:
     return "\n".join(lines)
 
 
-def write_evidence(sim, report, folder) -> list:
-    from ..io.vtk import write_vtu
+def write_evidence(sim, report, folder, files=None) -> list:
+    """Write the evidence files to `folder`; return their paths, also appended to `files`
+    as each is written (so a caller whose list it is knows what exists if one fails)."""
+    from ..run.vtk import write_vtu
 
+    files = [] if files is None else files
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     q = sim.solver.layout.q
-    files = []
     if sim.state.has_good:
         vec, sca, ints = sim.state.to_numpy(good=True)
         fluid = ints[q.kind] == FLUID

@@ -10,7 +10,7 @@ and kept in a pool when its simulation closes: the next simulation of the same
 configuration that fits reuses the fields *and their compiled kernels*. Kernels thus
 compile once per configuration and size class (a run of 30 simulations of different
 sizes compiles once per power of two), and loops run over the particles in use
-(``sizes[4]``), not over the capacity.
+(``sizes[N_PARTICLES]``, :mod:`.status`), not over the capacity.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import taichi as ti
 
 from . import runtime
 from . import status as st
-from .assembly import Args
+from .assembly import Args, Buffers
 
 MIN_CAPACITY = 4096
 MAX_FREE_PER_SOLVER = 3  # released sets kept for reuse per configuration (older ones are freed)
@@ -50,18 +50,21 @@ class FieldSet:
             return f
 
         def buffers():  # vectors, scalars, integers: one row per stored quantity
-            return (field(real, (len(L.vectors), capacity), vector=True), field(real, (len(L.scalars), capacity)),
-                    field(ti.i32, (len(L.integers), capacity)))
+            return Buffers(v=field(real, (len(L.vectors), capacity), vector=True),
+                           s=field(real, (len(L.scalars), capacity)), i=field(ti.i32, (len(L.integers), capacity)))
 
         rows = capacity if solver.lists else 1
         C, S, self.good = buffers(), buffers(), buffers()
         self.args = Args(
-            *C, *S, field(ti.i32, (capacity,)),
-            field(ti.i32, (cell_capacity,)), field(ti.i32, (cell_capacity + 1,)), field(ti.i32, (cell_capacity,)),
-            field(real, (solver.n_params,)), field(real, (materials, len(solver.material_columns))),
-            field(ti.i32, (6,)), field(ti.f64, (st.STATUS_SIZE,)), field(ti.i32, (st.FLAGS_SIZE,)),
-            field(real, (rows,), vector=True), field(ti.i32, (rows, list_capacity)), field(ti.i32, (rows,)),
-            field(ti.i32, (1, 1)), field(real, (1, 1)),  # aux_int, aux_real: given as arguments to aux kernels
+            Cv=C.v, Cs=C.s, Ci=C.i, Sv=S.v, Ss=S.s, Si=S.i,
+            cell_of=field(ti.i32, (capacity,)), cell_count=field(ti.i32, (cell_capacity,)),
+            cell_start=field(ti.i32, (cell_capacity + 1,)), cell_fill=field(ti.i32, (cell_capacity,)),
+            params=field(real, (solver.n_params,)), mat=field(real, (materials, len(solver.material_columns))),
+            sizes=field(ti.i32, (st.SIZES_SIZE,)), status=field(ti.f64, (st.STATUS_SIZE,)),
+            flags=field(ti.i32, (st.FLAGS_SIZE,)),
+            x_ref=field(real, (rows,), vector=True), nlist=field(ti.i32, (rows, list_capacity)),
+            ncount=field(ti.i32, (rows,)),
+            aux_int=field(ti.i32, (1, 1)), aux_real=field(real, (1, 1)),  # given as arguments to aux kernels
         )
         self.extra = solver.extra_fields(field, capacity, list_capacity)  # DFSPH's pair list, or None
         self.controls = None  # the host-side settings of the simulation using these fields (State)
@@ -83,7 +86,7 @@ class FieldSet:
         """Memory of the fields (the capacity, not only the particles in use)."""
         total = 0
         extra = [f for part in (self.extra or ()) for f in (part if isinstance(part, tuple) else (part,))]
-        for f in (*self.args[:-2], *self.good, *extra):
+        for f in (*self.args.state_fields(), *self.good, *extra):
             total += math.prod(f.shape) * (f.n if hasattr(f, "n") else 1) * (4 if f.dtype in (ti.i32, ti.f32) else 8)
         return total
 

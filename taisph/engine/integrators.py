@@ -18,6 +18,8 @@ of ``v``: the shift changes where particles go, not their momentum.
 
 import taichi as ti
 
+from ..scene.names import INTEGRATORS as NAMES  # the one list of the names (checked below)
+
 
 @ti.data_oriented
 class Euler:
@@ -161,6 +163,8 @@ class PredictorCorrector(Euler):
 
 
 INTEGRATORS = {"euler": Euler, "eulermid": EulerMid, "eulermom": EulerMid, "pc": PredictorCorrector}
+if tuple(INTEGRATORS) != NAMES:  # taisph/scene/names.py, in the same order
+    raise ImportError(f"engine integrators {tuple(INTEGRATORS)} differ from taisph.scene.names.INTEGRATORS")
 
 
 def make(name: str, integrated, has_shift=False):

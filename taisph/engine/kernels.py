@@ -1,8 +1,8 @@
 """What each kernel of a step does: the kernel bodies, assembled at compile time.
 
-A step is three kinds of kernel launch, issued as one Taichi graph call (waking the
-CPU thread pool costs about 0.1-0.3 ms per parallel loop on the 2-core VMs we
-measure on, so work is fused into as few passes as possible):
+A step is three kinds of kernel launch, issued one after another by the host without
+reading anything back (each parallel loop wakes the CPU thread pool, a fixed cost, so
+work is fused into as few passes as possible; docs/performance.md):
 
 ``sort``    :func:`sort_body`. The time step is chosen (serial; :mod:`.timestep`);
             each particle's cell is computed at the position its rates will be
@@ -21,9 +21,9 @@ measure on, so work is fused into as few passes as possible):
             code), the integrator's update into ``C``, the maxima for the next dt and
             the guards. Wall particles move rigidly.
 
-Every body is a ``ti.func(s, t_target)`` over the kernel arguments ``s``
-(:class:`taisph.engine.assembly.Args`); :meth:`Solver.make_kernel` wraps it in the one
-kernel signature.
+Every body is a ``ti.func(s, t_target)`` over the fields ``s`` of a simulation
+(:class:`taisph.engine.assembly.Args`); :meth:`Solver.make_kernel` compiles it into a
+kernel that binds the fields and takes only ``t_target``.
 """
 
 import taichi as ti
@@ -31,14 +31,15 @@ import taichi as ti
 from . import status as st
 from .layout import FLUID, VARIABLE_H, WALL
 
-# (term, role) of every term function traced into a kernel, appended at compile time:
-# proof that a term the scene does not list contributes no code (tests/test_effects.py).
-TRACED: list = []
+# (term, role) of every term function traced into a kernel, added at compile time: proof
+# that a term the scene does not list contributes no code (tests/test_effects.py). A set,
+# so it holds each pair once however many kernels compile (clear it to watch a build).
+TRACED: set = set()
 SELECT = {"fluid": FLUID, "wall": WALL, "all": -1}
 
 
 def _traced(name: str, role: str):
-    TRACED.append((name, role))
+    TRACED.add((name, role))
 
 
 @ti.data_oriented
@@ -108,11 +109,7 @@ def _local_parameters(solver):
     assume a store may change the parameter array, and reloads it for every pair).
 
     The vector must be assigned to a local variable: returned as an expression, Taichi
-    inlined the element loads at every use, and the optimised LLVM IR of the force pass
-    reloaded 1/h, the gradient's normalisation, h, alpha, beta, ... inside the pair loop
-    (where, in conditional blocks, LLVM cannot hoist them); assigned, they are loaded
-    once per particle (20k, five alternating pairs of processes: engine / reference
-    0.81 -> 0.85 on average; docs/performance.md)."""
+    inlines the element loads at every use, inside the pair loop (docs/performance.md)."""
     n_params = solver.n_params
 
     @ti.func
@@ -125,17 +122,17 @@ def _local_parameters(solver):
 
 def copy_rows(solver):
     """A ti.func(source, i, target, j): the carried rows of particle i of `source` to slot
-    j of `target`, each a (vectors, scalars, integers) triple of fields."""
+    j of `target`, each the :class:`~taisph.engine.assembly.Buffers` of a state."""
     carried_v, carried_s, carried_i = solver.layout.carried
 
     @ti.func
     def copy(source: ti.template(), i, target: ti.template(), j):
         for k in ti.static(carried_v):
-            target[0][k, j] = source[0][k, i]
+            target.v[k, j] = source.v[k, i]
         for k in ti.static(carried_s):
-            target[1][k, j] = source[1][k, i]
+            target.s[k, j] = source.s[k, i]
         for k in ti.static(carried_i):
-            target[2][k, j] = source[2][k, i]
+            target.i[k, j] = source.i[k, i]
 
     return copy
 
@@ -166,7 +163,7 @@ def _idle(s: ti.template()) -> bool:
 @ti.func
 def _particles(s: ti.template()):
     """How many particles this launch works on: none if it is idle."""
-    n = s.sizes[4]
+    n = s.sizes[st.N_PARTICLES]
     if _idle(s):
         n = 0
     return n
@@ -201,7 +198,7 @@ def sort_body(solver, serial: bool):
         ti.loop_config(serialize=serial)
         for i in range(n):
             slot = grid.slot(s, i, rebuild)
-            copy(s[:3], i, s[3:6], slot)  # C -> S
+            copy(s.C, i, s.S, slot)
             integ.predict(s, i, slot, dt)
             if ti.static(grid.any_periodic):
                 s.Sv[q.position, slot] = grid.wrap(s, s.Sv[q.position, slot])
@@ -256,7 +253,7 @@ def force_body(solver):
         n = _particles(s_mem)
         for i in range(n):
             s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
-            copy(s[3:6], i, s[:3], i)  # S -> C; the integrator then writes what it advances
+            copy(s.S, i, s.C, i)  # the integrator then writes what it advances
             if s.Si[q.kind, i] == FLUID:
                 rates = Rates(acc=ti.Vector.zero(real, dim))  # other members zero-initialised
                 for t in ti.static(body_terms):
@@ -274,13 +271,13 @@ def force_body(solver):
 
 
 def copy_body(solver, source, target):
-    """Copy the carried rows of the particles in use from `source` to `target` buffers
-    (each a (vectors, scalars, integers) triple of fields): the last good state."""
+    """Copy the carried rows of the particles in use from `source` to `target`
+    (:class:`~taisph.engine.assembly.Buffers`): the last good state."""
     copy = copy_rows(solver)
 
     @ti.func
     def body(s: ti.template(), t_target):
-        for i in range(s.sizes[4]):
+        for i in range(s.sizes[st.N_PARTICLES]):
             copy(source, i, target, i)
 
     return body
@@ -293,8 +290,8 @@ def pressure_body(solver):
 
     @ti.func
     def body(s: ti.template(), t_target):
-        c = ti.static(s._replace(Sv=s.Cv, Ss=s.Cs, Si=s.Ci))  # here the "sorted" arrays are C
-        for i in range(s.sizes[4]):
+        c = ti.static(s.with_S(s.C))  # here the "sorted" arrays are C
+        for i in range(s.sizes[st.N_PARTICLES]):
             derive(c, i)
 
     return body
@@ -329,7 +326,7 @@ def pairs_body(solver, fill: bool):
 
     @ti.func
     def body(s: ti.template(), t_target):
-        for i in range(s.sizes[4]):
+        for i in range(s.sizes[st.N_PARTICLES]):
             k = 0
             grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], visitor, k)
             if ti.static(not fill):

@@ -1,10 +1,11 @@
 """Which per-particle quantities a simulation stores, and where.
 
 Particle state is structure-of-arrays: every quantity is one contiguous array over
-particles. Quantities of one type are stacked as the rows of one Taichi ndarray,
-``vectors[k, n]``, ``scalars[k, n]``, ``integers[k, n]``, so that kernels have a
-fixed signature whatever effects a scene enables: the row ``k`` of a quantity is a
-compile-time constant, and a disabled effect's quantity simply has no row (no memory).
+particles. Quantities of one type are stacked as the rows of one Taichi field,
+``vectors[k, n]``, ``scalars[k, n]``, ``integers[k, n]`` (:mod:`.fields`), so that the
+kernels see the same three fields whatever effects a scene enables: the row ``k`` of a
+quantity is a compile-time constant, and a disabled effect's quantity simply has no
+row (no memory).
 
 Base quantities (always present)::
 

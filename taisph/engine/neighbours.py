@@ -45,6 +45,7 @@ scene's ``neighbour_skin`` is > 0 (compile time; the skin length is a runtime va
   only costs speed, never a neighbour.
 """
 
+import collections
 import math
 
 import numpy as np
@@ -52,11 +53,29 @@ import taichi as ti
 
 from . import status as st
 from .layout import WALL
+from ..messages import InputError
 
 
-def layout_grid(domain, periodic, support, positions):
-    """(lo, cell edges, shape) of the grid for a domain, its periodic axes, the kernel
-    support radius and the current (finite) positions."""
+class GridLayout(collections.namedtuple("GridLayout", "lo cell shape")):
+    """Where the grid lies: its origin ``lo`` and cell edges ``cell`` (one per axis) and
+    its ``shape``, the cells along each axis."""
+
+    __slots__ = ()
+
+    @property
+    def n_cells(self) -> int:
+        return int(np.prod(self.shape))
+
+
+def ball_volume(radius: float, dim: int) -> float:
+    """The volume of a ball of `radius` in `dim` dimensions (a segment's length in 1D, a
+    disc's area in 2D): over dx^dim, the lattice particles within that radius."""
+    return {1: 2.0 * radius, 2: math.pi * radius**2, 3: 4.0 / 3.0 * math.pi * radius**3}[dim]
+
+
+def layout_grid(domain, periodic, support, positions) -> GridLayout:
+    """The grid for a domain, its periodic axes, the kernel support radius and the
+    current (finite) positions."""
     lo_d, hi_d = (np.asarray(a, dtype=float) for a in domain)
     dim = len(lo_d)
     finite = positions[np.all(np.isfinite(positions), axis=1)]
@@ -68,7 +87,7 @@ def layout_grid(domain, periodic, support, positions):
             length = hi_d[d] - lo_d[d]
             n = int(math.floor(length / support * (1 + 1e-12)))
             if n < 3:
-                raise ValueError(
+                raise InputError(
                     f"periodic axis {d} is {length:g} long: it needs at least 3 kernel supports "
                     f"({3 * support:g}) for the nearest-image neighbour search"
                 )
@@ -79,7 +98,7 @@ def layout_grid(domain, periodic, support, positions):
             b = max(hi_d[d], finite[:, d].max() if len(finite) else hi_d[d]) + support
             lo[d], cell[d] = a, support
             shape.append(max(1, int(math.ceil((b - a) / support - 1e-9))))
-    return lo, cell, tuple(shape)
+    return GridLayout(lo=lo, cell=cell, shape=tuple(shape))
 
 
 PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
@@ -114,8 +133,7 @@ def list_capacity(scene) -> int:
     A particle with more (a compressed spot, a wall of closer particles) walks
     the cells instead; its neighbours are still all found."""
     reach = scene.support_radius * (1.0 + scene.neighbour_skin)
-    ball = {1: 2 * reach, 2: math.pi * reach**2, 3: 4 / 3 * math.pi * reach**3}[scene.dim]
-    return int(min(scene.n, math.ceil(1.5 * ball / scene.dx**scene.dim) + 8))
+    return int(min(scene.n, math.ceil(1.5 * ball_volume(reach, scene.dim) / scene.dx**scene.dim) + 8))
 
 
 def wall_range(scene) -> float:
@@ -150,9 +168,9 @@ class Grid:
     """Cell arithmetic, counting sort and neighbour walks inside kernels.
 
     ``s.params[p_lo + d]`` is the grid origin, ``s.params[p_inv_cell + d]`` the inverse
-    cell edge and ``s.params[p_period + d]`` the period of axis d; ``s.sizes`` holds
-    ``(n0, n1, n2, n_cells, n_particles, list_capacity)``. ``periodic`` (a tuple of bools) and ``lists`` are
-    compile-time; ``kind_row`` (the row of the particle kind) is given when the lists
+    cell edge and ``s.params[p_period + d]`` the period of axis d; ``s.sizes`` holds the
+    grid's shape and counts (:mod:`.status`: GRID_SHAPE, N_CELLS, ...). ``periodic`` (a
+    tuple of bools) and ``lists`` are compile-time; ``kind_row`` (the row of the particle kind) is given when the lists
     keep walls only within the range the terms need them (``list_wall_reach2``).
     """
 
@@ -205,7 +223,7 @@ class Grid:
             f = ti.floor((x[d] - s.params[self.p_lo + d]) * s.params[self.p_inv_cell + d])
             clamped = ti.cast(0.0, self.real)  # also for NaN, which fails f >= 0
             if f >= 0.0:
-                clamped = ti.min(f, ti.cast(s.sizes[d] - 1, self.real))
+                clamped = ti.min(f, ti.cast(s.sizes[st.GRID_SHAPE + d] - 1, self.real))
             c[d] = ti.cast(clamped, ti.i32)
         return c
 
@@ -214,7 +232,7 @@ class Grid:
         index = c[self.dim - 1]
         for k in ti.static(range(self.dim - 1)):
             d = self.dim - 2 - k
-            index = index * s.sizes[d] + c[d]
+            index = index * s.sizes[st.GRID_SHAPE + d] + c[d]
         return index
 
     @ti.func
@@ -230,12 +248,12 @@ class Grid:
             offset = (k // ti.static(3 ** (d - first_axis))) % 3 - 1
             other[d] = c[d] + offset
             if ti.static(self.periodic[d]):
-                n = s.sizes[d]
+                n = s.sizes[st.GRID_SHAPE + d]
                 if other[d] < 0:
                     other[d] += n
                 elif other[d] >= n:
                     other[d] -= n
-            elif other[d] < 0 or other[d] >= s.sizes[d]:
+            elif other[d] < 0 or other[d] >= s.sizes[st.GRID_SHAPE + d]:
                 inside = False
         if inside:
             if ti.static(self.periodic[0]):
@@ -245,7 +263,7 @@ class Grid:
             else:
                 other[0] = ti.max(c[0] - 1, 0)
                 first = self.linear(s, other)
-                other[0] = ti.min(c[0] + 1, s.sizes[0] - 1)
+                other[0] = ti.min(c[0] + 1, s.sizes[st.GRID_SHAPE] - 1)
                 last = self.linear(s, other)
                 begin = s.cell_start[first]
                 end = s.cell_start[last + 1]
@@ -266,14 +284,14 @@ class Grid:
         lists' fallback). Resets the counts for the next step."""
         if self.decide_rebuild(s):
             running = 0
-            for c in range(s.sizes[3]):
+            for c in range(s.sizes[st.N_CELLS]):
                 s.cell_start[c] = running
                 s.cell_fill[c] = running
                 running += s.cell_count[c]
                 s.cell_count[c] = 0
-            s.cell_start[s.sizes[3]] = running
+            s.cell_start[s.sizes[st.N_CELLS]] = running
         else:
-            for c in range(s.sizes[3]):
+            for c in range(s.sizes[st.N_CELLS]):
                 s.cell_count[c] = 0
 
     @ti.func
@@ -325,8 +343,7 @@ class Grid:
         if ti.static(not self.lists):
             c = self.coords(s, xi)
             # a runtime loop over the cell ranges: the visitor's code is inlined once
-            # (unrolled at compile time it was inlined 9 times in 3D: 3D cold compile
-            # 8.6-10 s instead of 2.2 s, for the same speed; docs/performance.md)
+            # (unrolled, 9 times in 3D: compiles 4x longer, runs no faster; docs/performance.md)
             for k in range(self.n_ranges):
                 begin, end = self.slot_range(s, c, k)
                 for j in range(begin, end):
@@ -339,7 +356,7 @@ class Grid:
             count = s.ncount[i]
             from_list = count >= 0 and not build
             reach2 = s.params[self.p_reach2]
-            capacity = s.sizes[5]  # entries per list (the field may have room for more)
+            capacity = s.sizes[st.LIST_CAPACITY]  # entries per list (the field may have room for more)
             c = self.coords(s, s.x_ref[i])  # == xi on a rebuild step
             stored = 0
             n_loops = self.n_ranges

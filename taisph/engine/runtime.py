@@ -14,18 +14,51 @@ simulation's state.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import weakref
 from dataclasses import dataclass
 
 import taichi as ti
 
+from ..messages import InputError
+
 PRECISIONS = {"f32": ti.f32, "f64": ti.f64}
 ARCHS = {"cpu": ti.cpu, "cuda": ti.cuda, "vulkan": ti.vulkan, "metal": ti.metal, "gpu": ti.gpu}
+DEVICE_NAMES = {"cuda": "CUDA", "vulkan": "Vulkan", "metal": "Metal"}
 
 
 class RuntimeConflict(RuntimeError):
     """Raised when a simulation asks for a backend/precision other than the live one."""
+
+
+class BackendUnavailable(InputError, RuntimeError):
+    """The requested backend (``arch``) cannot start on this machine. A ValueError (the
+    command line reports it as ``taisph: error: ...``, exit code 2: nothing was run) and
+    a RuntimeError (what it was before)."""
+
+
+@contextlib.contextmanager
+def _taichi_quiet():
+    """Taichi's log below errors off (its warnings while probing a backend that is not
+    there: "libcuda.so lib not found", "falling back to CPU"), restored afterwards."""
+    level = next((name for name in ("trace", "debug", "info", "warn", "error", "critical")
+                  if ti.is_logging_effective(name)), "warn")
+    ti.set_logging_level("error")
+    try:
+        yield
+    finally:
+        ti.set_logging_level(level)
+
+
+def available(arch: str) -> bool:
+    """Can Taichi start backend `arch` (a key of :data:`ARCHS`) on this machine? Asks
+    quietly (no Taichi log lines) and starts nothing."""
+    if arch in ("cpu", "gpu"):  # gpu: any GPU, else Taichi falls back to the CPU
+        return True
+    with _taichi_quiet():
+        return bool(ti.lang.misc.is_arch_supported(ARCHS[arch]))
 
 
 @dataclass(frozen=True)
@@ -75,6 +108,12 @@ def init(arch: str | None = None, precision: str | None = None, threads: int | N
         raise ValueError(f"unknown arch {arch!r}; choose one of {', '.join(ARCHS)}")
     if precision is not None and precision not in PRECISIONS:
         raise ValueError(f"unknown precision {precision!r}; choose f32 or f64")
+    if arch is not None and (_current is None or arch != _current.arch) and not available(arch):
+        # before anything is reset: the live runtime stays usable
+        raise BackendUnavailable(
+            f"arch={arch} was requested but Taichi could not start it on this machine (no "
+            f"{DEVICE_NAMES.get(arch, arch)} device or driver found); check the driver/device, or use --arch cpu"
+        )
     if _current is not None:
         wanted = Runtime(
             arch or _current.arch, precision or _current.precision, threads or _current.threads
@@ -103,13 +142,16 @@ def init(arch: str | None = None, precision: str | None = None, threads: int | N
     if os.environ.get("TAISPH_PROFILE"):
         # per-task timings: ti.profiler.print_kernel_profiler_info()
         kwargs["kernel_profiler"] = True
-    ti.init(**kwargs)
+    # ti.init prints "[Taichi] Starting on arch=..." to standard output, which carries
+    # results only (taisph.messages): the line is dropped
+    with contextlib.redirect_stdout(io.StringIO()):
+        ti.init(**kwargs)
     actual = ti.lang.impl.current_cfg().arch
     if rt.arch not in ("cpu", "gpu") and actual != ARCHS[rt.arch]:
         ti.reset()
-        raise RuntimeError(
+        raise BackendUnavailable(
             f"arch={rt.arch} was requested but Taichi could not start it on this machine "
-            f"(it fell back to {actual.name}). Check the driver/device, or use --arch cpu."
+            f"(it fell back to {actual.name}); check the driver/device, or use --arch cpu"
         )
     _current = rt
     return rt

@@ -7,13 +7,17 @@ support radius ``support * h``. Its gradient with respect to the first particle 
 
 and every ``g`` below is finite at ``q = 0``, so coincident particles never divide by
 zero. ``sigma_d`` normalises the kernel in 1, 2 and 3 dimensions; the tests integrate
-each kernel numerically and check it against 1.
+each kernel numerically and check it against 1. Each kernel also has ``f_numpy``, its
+``f`` on numpy arrays, for sums on the host (next to ``f``: one formula, two languages).
 """
 
 
 import math
 
+import numpy as np
 import taichi as ti
+
+from ..scene.names import KERNELS as NAMES  # the one list of the names (checked below)
 
 
 class _Kernel:
@@ -68,6 +72,9 @@ class CubicSpline(_Kernel):
             result = 0.25 * t * t * t
         return result
 
+    def f_numpy(self, q):
+        return np.where(q < 1, 1 - 1.5 * q**2 + 0.75 * q**3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0))
+
     @ti.func
     def g(self, q):
         result = 0.0
@@ -108,6 +115,9 @@ class WendlandC2(_Kernel):
             else:
                 result = t * t * t * t * (2.0 * q + 1.0)
         return result
+
+    def f_numpy(self, q):
+        return np.where(q < 2, (1 - q / 2) ** 3 * ((1.5 * q + 1) if self.one_d else (1 - q / 2) * (2 * q + 1)), 0.0)
 
     @ti.func
     def g(self, q):
@@ -155,6 +165,9 @@ class Gaussian(_Kernel):
             result = ti.exp(-q * q) - ti.static(math.exp(-9.0))
         return result
 
+    def f_numpy(self, q):
+        return np.where(q < 3, np.exp(-q * q) - np.exp(-9.0), 0.0)
+
     @ti.func
     def g(self, q):
         result = 0.0
@@ -164,6 +177,8 @@ class Gaussian(_Kernel):
 
 
 KERNELS = {"spline": CubicSpline, "gaussian": Gaussian, "wendland": WendlandC2}
+if tuple(KERNELS) != NAMES:  # taisph/scene/names.py, in the same order
+    raise ImportError(f"engine kernels {tuple(KERNELS)} differ from taisph.scene.names.KERNELS")
 
 
 def make(name: str, dim: int):
@@ -185,8 +200,6 @@ def _clear():
 def evaluate(name: str, dim: int, rij, h: float):
     """W and grad_i W for separation vectors ``rij`` (shape (M, dim), r_i - r_j),
     computed by the same Taichi functions the solver uses (for tests and tools)."""
-    import numpy as np
-
     from . import runtime
 
     rt = runtime.current()

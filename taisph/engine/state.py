@@ -15,23 +15,37 @@ import numpy as np
 import taichi as ti
 
 from . import fields as fieldpool
-from . import neighbours, pairs, runtime
+from . import neighbours, runtime
+from .dfsph import pairs
 from . import status as st
-from .assembly import Args
+from .assembly import Args, Buffers
 from .layout import FLUID, REMOVED
+from ..messages import InputError
+
+
+def _field(name: str) -> property:
+    """The field `name` of the state's :class:`Args`, as a read-only attribute."""
+    return property(lambda self: getattr(self.fields.args, name), doc=f"The field ``{name}`` (:class:`Args`).")
 
 
 class State:
+    # the fields the host reads and writes, by name (the kernels see them all: :attr:`args`)
+    params, mat, sizes = _field("params"), _field("mat"), _field("sizes")
+    status, flags = _field("status"), _field("flags")
+    cell_count, cell_start, cell_fill = _field("cell_count"), _field("cell_start"), _field("cell_fill")
+    x_ref, nlist, ncount = _field("x_ref"), _field("nlist"), _field("ncount")
+
     def __init__(self, scene, solver, rt: runtime.Runtime, grid=None):
         self.solver, self.runtime = solver, rt
         self.n = scene.n
         self.n_materials = len(scene.materials)
         self.list_capacity = (neighbours.list_capacity(scene) if solver.lists
                               else pairs.capacity(scene) if solver.dfsph else 1)
-        self.grid = grid or neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene),
-                                                   scene.position)
+        if grid is None:
+            grid = neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene), scene.position)
+        self.grid = neighbours.GridLayout(*grid)
         self._check_grid(scene, self.grid)
-        self.fields = fieldpool.acquire(solver, rt, self.n, self._n_cells(self.grid), self.list_capacity,
+        self.fields = fieldpool.acquire(solver, rt, self.n, self.grid.n_cells, self.list_capacity,
                                         self.n_materials)
         self.good_time = self.good_steps = 0
         self.good_dt_stable = float("inf")
@@ -41,25 +55,20 @@ class State:
         self._masses, self._masses_key = None, None  # cached mass sums and their (host writes, removed count)
         self._host_writes = 0
 
-    def __getattr__(self, name):
-        """The fields by name (``state.params``, ``state.ncount``...: :class:`Args`)."""
-        fields = self.__dict__.get("fields")
-        if fields is not None and name in Args._fields:
-            return getattr(fields.args, name)
-        raise AttributeError(name)
-
     @property
     def args(self) -> Args:
         """All the fields, as the kernels see them."""
         return self.fields.args
 
     @property
-    def C(self):
-        return self.fields.args[:3]
+    def C(self) -> Buffers:
+        """The current state's fields."""
+        return self.fields.args.C
 
     @property
-    def S(self):
-        return self.fields.args[3:6]
+    def S(self) -> Buffers:
+        """The cell-sorted state's fields (of the last step)."""
+        return self.fields.args.S
 
     def step_kernels(self, serial_sort: bool):
         return self.solver.step_kernels(self.fields, serial_sort)
@@ -87,14 +96,14 @@ class State:
         ints[L.q.material] = scene.material
         ints[L.q.kind] = scene.kind
         if self.solver.dfsph:  # the first solve starts from the scene's pressure (its initial density)
-            from . import dfsph
+            from .dfsph import solver as dfsph
 
             sca[L.q.kappa] = dfsph.initial_kappa(scene)
         for name, values in scene.quantities.items():
             try:
                 kind = L.kind_of(name)
             except KeyError:
-                raise ValueError(
+                raise InputError(
                     f"scene {scene.name!r} gives initial values of {name!r}, but none of its terms "
                     f"stores it (stored: {', '.join(L.vectors + L.scalars)})"
                 ) from None
@@ -107,37 +116,34 @@ class State:
         for field, data in zip(buffers or self.C, (vec, sca, ints)):
             field.from_numpy(self._padded(np.ascontiguousarray(data)))
 
-    @staticmethod
-    def _n_cells(grid) -> int:
-        return int(np.prod(grid[2]))
-
     def _check_grid(self, scene, grid):
-        n_cells = self._n_cells(grid)
+        n_cells = grid.n_cells
         if n_cells > neighbours.MAX_CELLS_PER_PARTICLE * self.n + 4096:
-            raise ValueError(
+            raise InputError(
                 f"the neighbour grid would need {n_cells} cells of {scene.support_radius:g} m for {self.n} "
                 f"particles (domain {scene.domain[0]} .. {scene.domain[1]}); the domain is too large for the "
                 "smoothing length"
             )
 
     def _write_sizes(self):
-        lo, cell, shape = self.grid
-        sizes = np.ones(6, np.int32)
-        sizes[: len(shape)] = shape
-        sizes[3] = self._n_cells(self.grid)
-        sizes[4] = self.n
-        sizes[5] = self.list_capacity
+        shape = self.grid.shape
+        sizes = np.ones(st.SIZES_SIZE, np.int32)
+        sizes[st.GRID_SHAPE : st.GRID_SHAPE + len(shape)] = shape
+        sizes[st.N_CELLS] = self.grid.n_cells
+        sizes[st.N_PARTICLES] = self.n
+        sizes[st.LIST_CAPACITY] = self.list_capacity
         self.sizes.from_numpy(sizes)
 
     def setup_grid(self, scene, grid=None):
-        """Lay the grid out around the current positions (or take `grid` = (lo, cell
-        edges, shape)); a grid larger than the fields have room for moves the state to
-        a larger field set (its kernels compile once)."""
+        """Lay the grid out around the current positions (or take `grid`, a
+        :class:`.neighbours.GridLayout` or its (lo, cell, shape)); a grid larger than the
+        fields have room for moves the state to a larger field set (its kernels compile once)."""
         if grid is None:
             positions = self.to_numpy()[0][self.solver.layout.q.position]
             grid = neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene), positions)
+        grid = neighbours.GridLayout(*grid)
         self._check_grid(scene, grid)
-        n_cells = self._n_cells(grid)
+        n_cells = grid.n_cells
         if n_cells > self.fields.cell_capacity:
             kept = self.arrays()
             old = self.fields
@@ -146,13 +152,13 @@ class State:
             fieldpool.release(old)
             self.grid = grid
             self.restore(kept)
-        self.grid = (np.asarray(grid[0]), np.asarray(grid[1]), tuple(grid[2]))
+        self.grid = neighbours.GridLayout(lo=np.asarray(grid.lo), cell=np.asarray(grid.cell), shape=tuple(grid.shape))
         self.cell_count.fill(0)
         self._write_sizes()
         self.write(st.FORCE_REBUILD, 1.0)  # new cells: new lists
 
     def upload_parameters(self, scene, controls, dt=None):
-        table = self.solver.param_table(scene, self.grid[0], self.grid[1], controls, dt)
+        table = self.solver.param_table(scene, self.grid.lo, self.grid.cell, controls, dt)
         self.fields.controls = controls
         self.params.from_numpy(table.astype(self.runtime.numpy_real))
         mat = self.solver.material_table(scene).astype(self.runtime.numpy_real)
@@ -201,13 +207,13 @@ class State:
 
         On the device only a removal changes a particle's kind, and nothing changes a
         mass, so the sums are recomputed only after a removal (the removed count moved)
-        or a write from the host; reading the whole state back for them cost 5 ms per
-        ``run()`` call at 20k particles and 0.3-0.6 s at 1M."""
+        or a write from the host: reading the whole state back for them is slow at 1M
+        particles (docs/performance.md)."""
         key = (self._host_writes, self.read_flag(st.REMOVED_COUNT))
         if key != self._masses_key:
             L, n = self.solver.layout, self.n
-            mass = self.C[1].to_numpy()[L.q.mass, :n].astype(float)
-            kind = self.C[2].to_numpy()[L.q.kind, :n]
+            mass = self.C.s.to_numpy()[L.q.mass, :n].astype(float)
+            kind = self.C.i.to_numpy()[L.q.kind, :n]
             self._masses = (float(mass[kind == FLUID].sum()), float(mass[kind == REMOVED].sum()))
             self._masses_key = key
         return self._masses
@@ -218,6 +224,20 @@ class State:
         vec, sca, ints = self.memory_order(good)
         order = np.argsort(ints[self.solver.layout.q.id], kind="stable")
         return vec[:, order].astype(float), sca[:, order].astype(float), ints[:, order]
+
+    def bytes_per_particle(self) -> int:
+        """Memory of the particle state per particle: the stored rows, three times
+        (current and cell-sorted buffers, the saved good state), the cell index, and
+        with neighbour lists their reference position, count and entries (DFSPH: its
+        pair list, :mod:`.dfsph.pairs`)."""
+        L, dim, lists = self.solver.layout, self.solver.dim, 0
+        real = 4 if self.runtime.precision == "f32" else 8
+        row = dim * real * len(L.vectors) + real * len(L.scalars) + 4 * len(L.integers)
+        if self.solver.dfsph:
+            lists = pairs.bytes_per_particle(self.list_capacity, real)
+        elif self.solver.lists:
+            lists = dim * real + 4 + 4 * self.list_capacity
+        return 3 * row + 4 + lists
 
     # --- the last good state ------------------------------------------------------------
     def keep_good(self, time: float, steps: int):
@@ -233,11 +253,12 @@ class State:
         the cells of their last rebuild (a resumed run walks the same lists in the same
         order: bit for bit in deterministic mode)."""
         n, rows = self.n, self.n if self.solver.lists else 1
-        arrays = {f"C{k}": f.to_numpy()[:, :n] for k, f in enumerate(self.C)}
-        arrays.update(status=self.status.to_numpy(), flags=self.flags.to_numpy(),
+        C = self.C
+        arrays = dict(C0=C.v.to_numpy()[:, :n], C1=C.s.to_numpy()[:, :n], C2=C.i.to_numpy()[:, :n],
+                      status=self.status.to_numpy(), flags=self.flags.to_numpy(),
                       x_ref=self.x_ref.to_numpy()[:rows], nlist=self.nlist.to_numpy()[:rows, : self.list_capacity],
                       ncount=self.ncount.to_numpy()[:rows],
-                      cell_start=self.cell_start.to_numpy()[: self._n_cells(self.grid) + 1])
+                      cell_start=self.cell_start.to_numpy()[: self.grid.n_cells + 1])
         return arrays
 
     def restore(self, arrays):
@@ -290,7 +311,7 @@ class State:
         finally:
             for field, values in kept:
                 field.from_numpy(values)
-        ids = self.S[2].to_numpy()[self.solver.layout.q.id, : self.n]
+        ids = self.S.i.to_numpy()[self.solver.layout.q.id, : self.n]
         rows = np.repeat(np.arange(self.n), counts)
         cols = np.arange(len(rows)) - np.repeat(np.cumsum(counts) - counts, counts)  # k-th neighbour of its row
         return np.stack([ids[rows], table[rows, cols]], axis=1).astype(np.int32)
@@ -303,6 +324,6 @@ class State:
     def free(self):
         """Give the fields back to the pool (the next simulation of this configuration
         that fits reuses them and their compiled kernels)."""
-        if self.__dict__.get("fields") is not None and runtime.is_current(self.runtime):
+        if getattr(self, "fields", None) is not None and runtime.is_current(self.runtime):
             fieldpool.release(self.fields)
-        self.__dict__["fields"] = None
+        self.fields = None

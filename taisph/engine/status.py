@@ -1,4 +1,5 @@
-"""The device-side status of a simulation: two small arrays the step kernels update.
+"""The device-side status of a simulation: two small arrays the step kernels update, and
+the sizes they work on.
 
 Time, step count and the dt history live on the device, so stepping needs no host
 round trip; the host reads them every few steps (:class:`taisph.engine.state.State`).
@@ -47,3 +48,11 @@ NONFINITE, DENSITY, ESCAPED = 1, 2, 4
 UNCONVERGED, CROWDED = 8, 16
 CODE_NAMES = {NONFINITE: "non-finite state", DENSITY: "density error", ESCAPED: "left the domain",
               UNCONVERGED: "pressure solve did not converge", CROWDED: "neighbour list full"}
+
+# ``sizes`` (i32): the grid's shape and the counts a launch works on (written by the host,
+# :meth:`taisph.engine.state.State.setup_grid`)
+GRID_SHAPE = 0  # cells along axis d at GRID_SHAPE + d (1 beyond the dimension)
+N_CELLS = 3  # cells of the grid
+N_PARTICLES = 4  # particles in use (the fields have room for more)
+LIST_CAPACITY = 5  # entries per particle's neighbour list (or DFSPH's pair list)
+SIZES_SIZE = 6

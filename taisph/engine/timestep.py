@@ -13,6 +13,11 @@ the formula is written: the step kernels call it (as a Taichi function) with the
 rate evaluation's maxima over fluid particles, :func:`initial_dt` with the initial
 state (sound speed c0, |g|, nu), and :func:`fixed_dt` for a fixed step chosen before a run.
 
+With a smoothing length per particle (adaptive_h) the device takes each particle's
+limits with its own h (:meth:`TimeStep.track`), so the smallest h limits the step, and
+:func:`initial_dt` the smallest initial h with the largest signal speed: the device's
+first step or less (equal when c + |v| is uniform).
+
 In adaptive mode (the default) ``dt = min(dt_stable, dt_max)``; with a fixed ``dt``
 the fixed value is used and the host warns once if it exceeds ``dt_stable``. Either
 way the step is shortened so that it ends exactly on the next output time.
@@ -26,6 +31,7 @@ import numpy as np
 import taichi as ti
 
 from . import status as st
+from .layout import VARIABLE_H
 
 TINY = 1e-30  # a limit whose maximum is zero (no flow, no force, no viscosity) imposes none (f32-safe)
 
@@ -128,7 +134,8 @@ def initial_dt(scene, controls: Controls | None = None, courant: float | None = 
     if getattr(scene, "solver", "wcsph") == "dfsph":
         c_max = 0.0  # incompressible: the step follows the flow speed
     v_max = float(np.max(np.linalg.norm(scene.velocity, axis=1), initial=0.0))
-    g = max([float(np.linalg.norm(t.values["gravity"])) for t in scene.terms if "gravity" in t.values] + [0.0])
+    g = max([float(np.linalg.norm(t.param_values(scene.dim)["gravity"])) for t in scene.terms
+             if "gravity" in t.params] + [0.0])
     dt = stable_dt(h, c_max + v_max, g, kinematic_viscosity(scene.terms),
                    c.courant if courant is None else courant, c.force_factor, c.viscous_factor)
     return float(min(dt, c.dt_max))
@@ -178,6 +185,7 @@ class TimeStep:
         self.p = collections.namedtuple("TimeStepRows", [n for n, _ in PARAMS])(*[param_rows[n] for n, _ in PARAMS])
         self.viscosity_rows = tuple(viscosity_rows)
         self.eos = eos
+        self.h_row = getattr(eos.q, VARIABLE_H, -1)  # a smoothing length per particle (adaptive_h)?
 
     @ti.func
     def begin_step(self, s: ti.template(), t_target):
@@ -225,9 +233,27 @@ class TimeStep:
 
     @ti.func
     def track(self, s: ti.template(), i, rates: ti.template()):
-        """Fold fluid particle i (just updated, in C) into the maxima of |a|^2 and c + |v|."""
+        """Fold fluid particle i (just updated, in C) into the maxima of |a|^2 and c + |v|.
+
+        With a smoothing length per particle (adaptive_h) each particle's limits take its
+        own h_i, the smallest h the tightest: the maxima are kept as seen at the scene's
+        h (the one :meth:`begin_step` and :func:`estimate` use), c + |v| scaled by
+        h / h_i and |a| likewise, so C h / max(...) = min_i C h_i / (c_i + |v_i|) and
+        C sqrt(h / max(...)) = min_i C sqrt(h_i / |a_i|); the viscous limit
+        C_visc h_i^2 / nu joins the signal speed as C_cfl h nu / (C_visc h_i^2)."""
         acc2 = ti.cast(rates.acc.norm_sqr(), ti.f64)
         signal = ti.cast(self.eos.sound_speed(s, i) + s.Cv[self.eos.q.velocity, i].norm(), ti.f64)
+        if ti.static(self.h_row >= 0):
+            h = ti.cast(s.params[self.p_h], ti.f64)
+            ratio = h / ti.max(ti.cast(s.Ss[self.h_row, i], ti.f64), TINY)
+            acc2 *= ratio * ratio
+            signal *= ratio
+            if ti.static(len(self.viscosity_rows) > 0):
+                nu = ti.cast(0.0, ti.f64)
+                for row in ti.static(self.viscosity_rows):
+                    nu = ti.max(nu, ti.cast(s.params[row], ti.f64))
+                signal = ti.max(signal, ti.cast(s.params[self.p.courant], ti.f64) * nu * ratio * ratio
+                                / (ti.cast(s.params[self.p.viscous_factor], ti.f64) * h))
         # Read before the atomic: the maxima rarely grow, and a plain read of a line
         # no thread writes is cheap, while an atomic on it makes both cores fight
         # over the cache line for every particle.

@@ -17,6 +17,8 @@ import copy
 import numpy as np
 import taichi as ti
 
+from ..messages import InputError
+
 
 @ti.data_oriented
 class IdealGas:
@@ -45,13 +47,13 @@ class IdealGas:
         """Raise ValueError if the scene cannot be simulated with this EOS."""
         for m in scene.materials:
             if not (np.isfinite(m.gamma) and m.gamma > 1.0):
-                raise ValueError(f"material {m.name!r}: an ideal gas needs gamma > 1, got {m.gamma!r}")
+                raise InputError(f"material {m.name!r}: an ideal gas needs gamma > 1, got {m.gamma!r}")
         e = scene.quantities.get("energy")
         if e is None:
-            raise ValueError(f"scene {scene.name!r}: an ideal gas needs the particles' internal energy "
+            raise InputError(f"scene {scene.name!r}: an ideal gas needs the particles' internal energy "
                              "(add_fluid(..., energy=...))")
         if np.any(np.asarray(e) < 0):
-            raise ValueError(f"scene {scene.name!r}: internal energy must be >= 0")
+            raise InputError(f"scene {scene.name!r}: internal energy must be >= 0")
 
     def max_sound_speed(self, scene) -> float:
         """Largest sound speed of the scene's initial state (for a CFL time step)."""

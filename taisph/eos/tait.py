@@ -35,7 +35,7 @@ class Tait:
     scalars = ("sound_speed",)  # per-particle quantities it stores
     derived = ("sound_speed",)  # ... recomputed from the state every step (not carried)
     outputs = ()  # stored quantities worth writing to the frames
-    tension = True  # class default: checkpoints of earlier versions unpickle with it
+    tension = True  # class default (the instance sets its own in __init__)
 
     def __init__(self, tension: bool = True):
         self.tension = bool(tension)

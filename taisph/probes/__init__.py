@@ -7,6 +7,8 @@ gauge) and the pressure force on a group of wall particles, sampled during a run
     >>> sim.run(1.5, writers=[probes])                                           # doctest: +SKIP
     >>> probes.times, probes.values["P1"], probes.values["floor"]                # doctest: +SKIP
 
+Points must lie inside the scene's domain: :func:`check_inside` refuses one outside,
+naming the probe, the coordinate and the domain's range, before anything runs.
 A scene file's ``[[probes]]`` are sampled the same way into ``OUT/probes.csv``
 (docs/scenes.md). Definitions (V_j = m_j / rho_j, W the scene's kernel and h; sums
 over fluid particles j within the kernel support of x):
@@ -20,6 +22,9 @@ wall face, 1/4 in a corner), is at least ``min_fluid_fraction`` = 0.2; below it 
 probe reads no value (NaN; ``nan`` in the CSV): a point more than about h above the
 water, or one lone splash particle (which alone gives phi <= 0.27 in 2D, 0.15 in 3D
 with the cubic spline and h = 1.3 dx). Wall particles do not enter the sums.
+With ``to``, a sensor's face: the mean of p over the points of
+:func:`taisph.probes.face_points` (a segment in 2D; a rectangle in a coordinate plane
+in 3D), at most dx/2 apart, a dry point (phi below the threshold) counting as 0.
 
 ``elevation`` along the vertical line through (x, z): the highest height at which
 phi falls through 1/2 going up (phi sampled every dx/2 along the line, across the
@@ -53,8 +58,10 @@ Cost: one kernel launch per sample (the sums of all due probes in one parallel
 loop) and a download of a few numbers per point; measured in docs/scenes.md.
 """
 
-from .spec import KINDS, Probe, elevation, force, parse, pressure
+from .spec import (KINDS, OutsideDomainError, Probe, check_inside, elevation, face_points, force, outside, parse,
+                   pressure)
 from .writer import ELEVATION_FRACTION, MIN_FLUID_FRACTION, Probes, read_csv, surface_height
 
 __all__ = ["Probe", "Probes", "pressure", "elevation", "force", "read_csv", "surface_height", "KINDS",
-           "ELEVATION_FRACTION", "MIN_FLUID_FRACTION"]
+           "ELEVATION_FRACTION", "MIN_FLUID_FRACTION", "check_inside", "outside", "OutsideDomainError",
+           "face_points"]

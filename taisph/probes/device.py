@@ -41,7 +41,9 @@ import weakref
 import numpy as np
 import taichi as ti
 
+from ..engine import status as st
 from ..engine.layout import FLUID, VARIABLE_H, WALL
+from ..messages import InputError
 
 # terms whose wall contributions make up a force probe: the pressure force of the
 # fluid on the wall (and, for Lennard-Jones walls, their repulsion, which stands in for it)
@@ -63,7 +65,7 @@ def _body(solver):
     q = solver.layout.q
     grid, kern, dim, real = solver.grid, solver.kernel, solver.dim, solver.real
     if getattr(q, VARIABLE_H, -1) >= 0:
-        raise ValueError("probes interpolate with the scene's constant smoothing length; this scene varies h "
+        raise InputError("probes interpolate with the scene's constant smoothing length; this scene varies h "
                          "per particle (adaptive_h), which probes do not support")
     rows = solver.param_rows
     p_inv_h, p_w_norm, p_grad_norm, p_support2 = (rows[k] for k in ("inv_h", "w_norm", "grad_norm", "support2"))
@@ -122,7 +124,7 @@ def _body(solver):
         for g in range(s.aux_int[0, 1]):  # the force rows accumulate: zero them first
             for d in ti.static(range(dim)):
                 s.aux_real[n_points + g, d] = 0.0
-        for k in range(n_points + s.sizes[4]):
+        for k in range(n_points + s.sizes[st.N_PARTICLES]):
             if k < n_points:
                 if s.aux_real[k, ACTIVE] > 0.0:
                     point_sums(s, k, support2)

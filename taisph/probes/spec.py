@@ -1,10 +1,17 @@
-"""What a probe is: :class:`Probe` (also what a scene file's ``[[probes]]`` become) and
-the constructors :func:`pressure`, :func:`elevation`, :func:`force`. Plain Python."""
+"""What a probe is: :class:`Probe` (also what a scene file's ``[[probes]]`` become),
+the constructors :func:`pressure`, :func:`elevation`, :func:`force`, the points of a
+sensor's face (:func:`face_points`) and the one check that its points lie inside the
+scene's domain (:func:`outside`, :func:`check_inside`: the :class:`Probes` writer, the
+command line and scene files all refuse with it). Plain Python and numpy."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+import numpy as np
+
+from ..messages import InputError
 
 KINDS = ("pressure", "elevation", "force")
 UP = 1  # the vertical axis: y, in 2D and 3D
@@ -13,7 +20,9 @@ UP = 1  # the vertical axis: y, in 2D and 3D
 @dataclass
 class Probe:
     """A measurement: ``pressure`` at the point `at` (dim numbers), or averaged over
-    the segment from `at` to `to` (a sensor's face), ``elevation``
+    the face from `at` to `to` (a sensor's face, :func:`face_points`: in 2D the
+    segment; in 3D the axis-aligned rectangle, or segment, with opposite corners `at`
+    and `to`), ``elevation``
     (free-surface height) along the vertical line through `at` (x in 2D, (x, z) in
     3D), ``force`` on the wall group `walls` (its name in a scene file, or in Python
     a name the :class:`taisph.probes.Probes` writer is given ids for, or the particle
@@ -32,28 +41,33 @@ class Probe:
         return [f"{self.name}_{a}" for a in "xyz"[:dim]] if self.kind == "force" else [self.name]
 
     def check(self, dim: int):
-        """ValueError naming the probe if it is malformed for a `dim`-D scene."""
+        """:class:`taisph.messages.InputError` (a ValueError) naming the probe if it is
+        malformed for a `dim`-D scene."""
         if not (isinstance(self.name, str) and self.name) or any(c in self.name for c in ',"\n'):
-            raise ValueError(f"probe name {self.name!r}: expected a non-empty name without commas or quotes")
+            raise InputError(f"probe name {self.name!r}: expected a non-empty name without commas or quotes")
         if self.kind not in KINDS:
-            raise ValueError(f"probe {self.name!r}: kind {self.kind!r}; expected one of {', '.join(KINDS)}")
+            raise InputError(f"probe {self.name!r}: kind {self.kind!r}; expected one of {', '.join(KINDS)}")
         if not (isinstance(self.every, int) and not isinstance(self.every, bool) and self.every >= 1):
-            raise ValueError(f"probe {self.name!r}: every = {self.every!r}; expected an integer >= 1 (steps)")
+            raise InputError(f"probe {self.name!r}: every = {self.every!r}; expected an integer >= 1 (steps)")
         if self.kind == "force":
             if self.walls is None:
-                raise ValueError(f"probe {self.name!r}: a force probe needs walls (a wall group)")
+                raise InputError(f"probe {self.name!r}: a force probe needs walls (a wall group)")
             return
         n = dim if self.kind == "pressure" else dim - 1
         for key in ("at", "to"):
             value = getattr(self, key)
             if key == "to" and (value is None or self.kind != "pressure"):
                 if value is not None:
-                    raise ValueError(f"probe {self.name!r}: to = {value!r}; only a pressure probe takes to")
+                    raise InputError(f"probe {self.name!r}: to = {value!r}; only a pressure probe takes to")
                 continue
             if not (isinstance(value, (tuple, list)) and len(value) == n and all(_finite(v) for v in value)):
                 what = "a point" if self.kind == "pressure" else "the horizontal position of its vertical line"
-                raise ValueError(f"probe {self.name!r}: {key} = {value!r}; a {self.kind} probe in {dim}D takes "
+                raise InputError(f"probe {self.name!r}: {key} = {value!r}; a {self.kind} probe in {dim}D takes "
                                  f"{what}, {n} number(s)")
+        if self.to is not None and dim == 3 and all(a != b for a, b in zip(self.at, self.to)):
+            raise InputError(f"probe {self.name!r}: at = {self.at!r}, to = {self.to!r}: in 3D a face is a rectangle "
+                             "in a coordinate plane (or a segment along an axis) with opposite corners at and to, "
+                             "which must share at least one coordinate (the rectangle's plane)")
 
 
 def _finite(v) -> bool:
@@ -62,7 +76,11 @@ def _finite(v) -> bool:
 
 def pressure(name: str, at, every: int = 1, to=None) -> Probe:
     """Pressure at the point `at` (Shepard interpolation of the fluid's pressure), or
-    its mean over the segment from `at` to `to` (a sensor's face; dry parts count as 0)."""
+    its mean over the face from `at` to `to` (a sensor's face; dry parts count as 0):
+    in 2D the segment, in 3D the rectangle in a coordinate plane with opposite corners
+    `at` and `to` (they differ in two coordinates), e.g. a 9 cm square sensor on the
+    wall x = 3.22 m: ``pressure("P1", at=(3.22, 0.115, 0.455), to=(3.22, 0.205, 0.545))``;
+    a segment along an axis if they differ in one (:func:`face_points`)."""
     return Probe(name, "pressure", at=tuple(float(v) for v in at), every=every,
                  to=None if to is None else tuple(float(v) for v in to))
 
@@ -78,14 +96,84 @@ def force(name: str, walls, every: int = 1) -> Probe:
     return Probe(name, "force", walls=walls, every=every)
 
 
+def face_points(at, to, spacing: float) -> np.ndarray:
+    """The points a sensor's face from `at` to `to` is sampled at, each standing for an
+    equal part of it (the probe reads their mean).
+
+    2D: the segment from `at` to `to` cut into n = ceil(length / spacing) equal parts,
+    their midpoints. 3D: `at` and `to` are opposite corners of an axis-aligned box that
+    is flat (they share a coordinate, :meth:`Probe.check`): along each axis where they
+    differ, n = ceil(extent / spacing) equal parts; the face's points are the centres
+    of the cells of that grid: a rectangle (two axes, n1 x n2 points), a segment (one)
+    or the point `at` (none). The writer takes spacing = dx / 2."""
+    a, b = np.asarray(at, float), np.asarray(to, float)
+    if len(a) == 2:
+        parts = max(1, math.ceil(np.linalg.norm(b - a) / spacing - 1e-9))
+        return a + ((np.arange(parts) + 0.5) / parts)[:, None] * (b - a)
+    axes = [k for k in range(len(a)) if a[k] != b[k]]
+    if len(axes) == 3:
+        raise InputError(f"a face from {tuple(at)} to {tuple(to)}: in 3D its corners must share a coordinate")
+    ticks = [(np.arange(n) + 0.5) / n for n in (max(1, math.ceil(abs(b[k] - a[k]) / spacing - 1e-9)) for k in axes)]
+    grid = np.stack(np.meshgrid(*ticks, indexing="ij"), -1).reshape(-1, len(axes)) if axes else np.zeros((1, 0))
+    points = np.repeat(a[None, :], len(grid), axis=0)
+    for column, k in enumerate(axes):
+        points[:, k] = a[k] + grid[:, column] * (b[k] - a[k])
+    return points
+
+
+class OutsideDomainError(InputError):
+    """A probe's point outside the scene's domain; the message names the probe, the
+    point (``at`` or ``to``), the coordinate and the domain's range along it.
+    Attributes: ``probe`` (its name), ``key``, ``problem`` (e.g. ``x = 5 is outside
+    the domain (-0.16 .. 1.16)``)."""
+
+    def __init__(self, message, probe=None, key=None, problem=None):
+        super().__init__(message)
+        self.probe, self.key, self.problem = probe, key, problem
+
+
+def outside(probe: Probe, domain):
+    """The first of `probe`'s points (``at``, then ``to``) with a coordinate outside
+    the box `domain` = ``(lo, hi)`` (bounds included): ``(key, problem)``, e.g.
+    ``("at", "x = 5 is outside the domain (-0.16 .. 1.16)")``; None if all lie inside
+    or it has no point (force). A pressure point has a coordinate per axis, an
+    elevation probe's line the horizontal ones. The one rule for the probes of the
+    command line, of scene files and of :class:`taisph.probes.Probes`."""
+    if probe.kind == "force":
+        return None
+    lo, hi = (np.asarray(v, float).reshape(-1) for v in domain)
+    axes = range(len(lo)) if probe.kind == "pressure" else [a for a in range(len(lo)) if a != UP]
+    for key in ("at", "to"):
+        for a, v in zip(axes, getattr(probe, key) or ()):
+            if not lo[a] <= v <= hi[a]:
+                return key, f"{'xyz'[a]} = {v:g} is outside the domain ({lo[a]:g} .. {hi[a]:g})"
+    return None
+
+
+def check_inside(probes, domain, source: str | None = None):
+    """Raise :class:`OutsideDomainError` (an InputError, so a ValueError) for the
+    first of `probes` with a point outside `domain` (:func:`outside`):
+    ``[SOURCE: ]probe 'P': at = (5.0, 5.0): x = 5 is outside the domain (-0.16 .. 1.16)``.
+    `source` says where the probes come from (``"--probe"``, a file). Call it before
+    anything runs: a point outside the domain would only ever read nan."""
+    for p in probes:
+        bad = outside(p, domain)
+        if bad is not None:
+            key, problem = bad
+            prefix = f"{source}: " if source else ""
+            raise OutsideDomainError(f"{prefix}probe {p.name!r}: {key} = {getattr(p, key)!r}: {problem}",
+                                     p.name, key, problem)
+
+
 def parse(text: str, dim: int) -> Probe:
     """A probe from the command line's ``--probe KIND:NAME:WHERE[:EVERY]``:
     ``pressure:P1:3.22,0.16`` (a point), ``elevation:gauge:0.6:10`` (the vertical line at
     x = 0.6, every 10 steps), ``force:F:walls`` (a wall group: ``walls``, all wall
-    particles of a case, or a scene file's group name). ValueError naming the text."""
+    particles of a case, or a scene file's group name). InputError (a ValueError)
+    naming the text."""
     parts = text.split(":")
     if len(parts) not in (3, 4) or parts[0] not in KINDS or not parts[1]:
-        raise ValueError(f"--probe {text}: expected KIND:NAME:WHERE[:EVERY], KIND one of {', '.join(KINDS)} "
+        raise InputError(f"--probe {text}: expected KIND:NAME:WHERE[:EVERY], KIND one of {', '.join(KINDS)} "
                          "(e.g. pressure:P1:3.22,0.16, elevation:gauge:0.6:10, force:F:walls)")
     kind, name, where = parts[:3]
     every = 1
@@ -100,10 +188,10 @@ def parse(text: str, dim: int) -> Probe:
         try:
             at = tuple(float(v) for v in where.split(","))
         except ValueError:
-            raise ValueError(f"--probe {text}: {where!r} is not comma-separated numbers") from None
+            raise InputError(f"--probe {text}: {where!r} is not comma-separated numbers") from None
         probe = Probe(name, kind, at=at, every=every)
     try:
         probe.check(dim)
     except ValueError as err:
-        raise ValueError(f"--probe {text}: {err}") from None
+        raise InputError(f"--probe {text}: {err}") from None
     return probe

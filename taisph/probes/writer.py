@@ -10,10 +10,11 @@ from pathlib import Path
 import numpy as np
 
 from ..engine import status as st
+from ..messages import InputError
 from ..engine.integrators import PredictorCorrector
 from ..engine.layout import WALL
 from .device import Sampler
-from .spec import UP, Probe
+from .spec import UP, Probe, check_inside, face_points
 
 ELEVATION_FRACTION = 0.5  # the free surface: where the fluid fraction phi falls through 1/2
 MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a corner has 1/4; taisph.probes)
@@ -28,7 +29,15 @@ class Probes:
     ``path``     a CSV file written as samples are taken (a header, then one flushed
                  line per sample), or None;
     ``min_fluid_fraction``  a pressure probe reads NaN where the fluid fraction phi
-                 at its point is below this (default 0.2; see :mod:`taisph.probes`).
+                 at its point is below this (default 0.2; see :mod:`taisph.probes`);
+    ``append``   continue an existing CSV at `path` (a resumed run) instead of
+                 starting it anew.
+
+    The probes are checked when the run starts (or at the first :meth:`sample`),
+    before anything is sampled or written: a malformed probe, a wall group that does
+    not exist or a point outside the scene's domain
+    (:class:`taisph.probes.OutsideDomainError`) raises an
+    :class:`taisph.messages.InputError` (a ValueError) naming the probe.
 
     A sample is taken when the run starts from a new simulation (its initial state)
     and after every ``every`` steps, ``every`` the greatest common divisor of the
@@ -38,17 +47,19 @@ class Probes:
     (N, dim)), :meth:`series` (one probe's own samples), :meth:`columns` (the CSV's).
     """
 
-    def __init__(self, probes, walls=None, path=None, min_fluid_fraction: float = MIN_FLUID_FRACTION):
+    def __init__(self, probes, walls=None, path=None, min_fluid_fraction: float = MIN_FLUID_FRACTION,
+                 append: bool = False):
         self.probes = [p if isinstance(p, Probe) else Probe(**p) for p in probes]
         names = [p.name for p in self.probes]
         if not self.probes:
-            raise ValueError("Probes needs at least one probe")
+            raise InputError("Probes needs at least one probe")
         if len(set(names)) != len(names):
-            raise ValueError(f"probe names must differ: {', '.join(names)}")
+            raise InputError(f"probe names must differ: {', '.join(names)}")
         self.walls = dict(walls or {})
         self.path = Path(path) if path is not None else None
+        self.append = append  # a resumed run continues the file (the header stays)
         if not 0 < min_fluid_fraction < 1:
-            raise ValueError(f"min_fluid_fraction = {min_fluid_fraction!r}: expected a number in (0, 1)")
+            raise InputError(f"min_fluid_fraction = {min_fluid_fraction!r}: expected a number in (0, 1)")
         self.min_fluid_fraction = float(min_fluid_fraction)
         self.every = math.gcd(*[p.every for p in self.probes]) if all(
             isinstance(p.every, int) and p.every >= 1 for p in self.probes) else None
@@ -84,6 +95,7 @@ class Probes:
         dim = sim.dim
         for p in self.probes:
             p.check(dim)
+        check_inside(self.probes, sim.scene.domain)  # before the first step: nothing sampled, no file
         kinds = sim.scene.kind
         points, self._slices, groups = [], {}, []
         lo, hi = (np.asarray(v, float) for v in sim.scene.domain)
@@ -93,10 +105,8 @@ class Probes:
             start = len(points)
             if p.kind == "pressure" and p.to is None:
                 points.append(np.asarray(p.at, float))
-            elif p.kind == "pressure":  # a sensor's face: points at most dx/2 apart, at the parts' middles
-                a, b = np.asarray(p.at, float), np.asarray(p.to, float)
-                parts = max(1, math.ceil(np.linalg.norm(b - a) / spacing - 1e-9))
-                points += [a + (k + 0.5) / parts * (b - a) for k in range(parts)]
+            elif p.kind == "pressure":  # a sensor's face: the middles of its parts, at most dx/2 a side
+                points += list(face_points(p.at, p.to, spacing))
             elif p.kind == "elevation":
                 for y in self._line:
                     x = list(p.at)
@@ -105,11 +115,11 @@ class Probes:
             else:
                 ids = self.walls.get(p.walls) if isinstance(p.walls, str) else p.walls
                 if ids is None:
-                    raise ValueError(f"probe {p.name!r}: no wall group {p.walls!r}; groups: "
+                    raise InputError(f"probe {p.name!r}: no wall group {p.walls!r}; groups: "
                                      f"{', '.join(self.walls) or 'none (pass walls={name: ids})'}")
                 index = np.arange(sim.n)[ids]
                 if len(index) == 0 or np.any(kinds[index] != WALL):
-                    raise ValueError(f"probe {p.name!r}: walls {p.walls!r} must be wall particles "
+                    raise InputError(f"probe {p.name!r}: walls {p.walls!r} must be wall particles "
                                      f"({np.count_nonzero(kinds[index] != WALL)} of {len(index)} are not)")
                 self._slices[p.name] = len(groups)
                 groups.append(index)
@@ -120,8 +130,10 @@ class Probes:
         self.sim = sim
         if self.path is not None:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._file = open(self.path, "w", newline="")
-            self._file.write(",".join(["time", *self.columns()]) + "\n")
+            old = self.append and self.path.exists() and self.path.stat().st_size > 0
+            self._file = open(self.path, "a" if old else "w", newline="")
+            if not old:
+                self._file.write(",".join(["time", *self.columns()]) + "\n")
             self._file.flush()
 
     def columns(self) -> list:

@@ -17,6 +17,7 @@ import sys
 import uuid
 import warnings
 
+from ..messages import TaisphWarning
 from .plan import SweepError, Task
 from .worker import blank_result, fail, run_task
 
@@ -62,7 +63,7 @@ def connect(client=None, workers: int | None = None, scheduler: str | None = Non
     import dask
 
     # no Taichi banner per worker: set before each worker process starts, as it may import
-    # taichi while it loads the starting script (python tools/accuracy_cost.py)
+    # taichi while it loads the starting script (python -m tools.studies.accuracy_cost)
     with dask.config.set({"distributed.nanny.pre-spawn-environ.ENABLE_TAICHI_HEADER_PRINT": "0"}):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
                                silence_logs=logging.ERROR)
@@ -81,7 +82,7 @@ def _check_workers(client, address: str | None = None) -> None:
         listed = ", ".join(f"{address}: {n}" for address, n in busy.items())
         warnings.warn(f"{len(busy)} Dask worker(s) have more than one thread ({listed}); "
                       "a worker process runs one taisph run at a time (Taichi's runtime belongs to a process), so "
-                      "the other threads stay idle: start workers with --nthreads 1 --nworkers N", stacklevel=3)
+                      "the other threads stay idle: start workers with --nthreads 1 --nworkers N", TaisphWarning, stacklevel=3)
 
 
 def run_tasks(tasks: list[Task], client, threads: int | None = None, on_result=None, progress: bool = False,

@@ -14,8 +14,8 @@ import os
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
-from ..parameters import (ParameterError, Number, Range, at_least, between, courant_number, flag, integer, one_of,
-                          optional, positive)
+from ..engine.timestep import Controls
+from ..scene.parameters import ParameterError, Number, Range, at_least, between, courant_number, flag, integer, one_of, optional, positive
 
 
 class Numbers(Range):
@@ -45,7 +45,8 @@ SETTINGS = {
     "precision": (one_of("f32", "f64"), "float precision of the run"),
     "threads": (integer(at_least=1), "CPU threads of the run"),
     "dt": (optional(positive), "fixed time step (s); none: adaptive"),
-    "courant": (courant_number, "Courant number of the adaptive step (default 0.25, or a scene file's)"),
+    "courant": (courant_number, f"Courant number of the adaptive step (default {Controls.courant:g}, or a scene "
+                                "file's)"),
     "neighbour_skin": (between(0, 2), "neighbour list skin (fraction of the support radius)"),
     "max_density_error": (at_least(0), "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
     "deterministic": (flag, "serial cell sort: bit-for-bit reproducible runs"),
@@ -72,7 +73,7 @@ class Name(NamedTuple):
 
     kind: str  # "case" (a parameter of the case), "setting" (a run setting), "validation" (its keyword)
     default: object
-    range: Range  # what is allowed; parses text (taisph.parameters)
+    range: Range  # what is allowed; parses text (taisph.scene.parameters)
 
 
 def is_scene_file(case: str) -> bool:
@@ -85,33 +86,33 @@ def resolve_case(case: str):
 
     The one place a sweep turns its CASE argument into scenes, in the starting
     process and in every worker: the command line's registry
-    (:func:`taisph.cli.cases.find`), or for a scene file its factory
-    (:func:`taisph.scenefile_build.scene_factory`: dx, t_end, frames, integrator,
+    (:func:`taisph.scene.catalogue.find`), or for a scene file its factory
+    (:func:`taisph.formats.scenefile.scene_factory`: dx, t_end, frames, integrator,
     kernel, h_factor, alpha, delta, xsph)."""
     if is_scene_file(case):
-        from ..scenefile import SceneFileError
-        from ..scenefile_build import scene_factory
+        from ..formats.scenefile import SceneFileError
+        from ..formats.scenefile import scene_factory
 
         try:
             return scene_factory(case)
         except SceneFileError as err:
             raise SweepError(str(err)) from None
-    from ..cli import cases
+    from ..scene import catalogue
 
     try:
-        return cases.find(case)
+        return catalogue.find(case)
     except ParameterError as err:
         raise SweepError(str(err)) from None
 
 
 def case_parameters(case: str) -> dict:
     """{name: Parameter (name, default, range)} of a built-in case or a scene file."""
-    from ..cli import cases
+    from ..scene import catalogue
 
     if not is_scene_file(case):
-        return cases.parameters(case)
+        return catalogue.parameters(case)
     factory = resolve_case(case)
-    return {name: cases.Parameter(name, p.default, factory.ranges[name])
+    return {name: catalogue.Parameter(name, p.default, factory.ranges[name])
             for name, p in inspect.signature(factory).parameters.items()}
 
 
@@ -123,7 +124,7 @@ def has_reference(case: str) -> bool:
 
 def names(case: str, validate: bool) -> dict[str, Name]:
     """Every name a sweep of `case` may set or vary, with its kind, default and range:
-    the case's parameters as declared in its file (:func:`taisph.cli.cases.parameters`),
+    the case's parameters as declared in its file (:func:`taisph.scene.catalogue.parameters`),
     the run settings and, for validation runs, the validation's keywords."""
     allowed = {name: Name("case", p.default, p.range) for name, p in case_parameters(case).items()}
     allowed.update({name: Name("setting", None, rng) for name, (rng, _) in SETTINGS.items()})
@@ -149,7 +150,7 @@ def _range_of(default) -> Range:
 
 def parse(case: str, name: str, value, allowed: dict[str, Name]):
     """`value` of `name` as the run needs it: text is parsed by the name's range (as
-    ``--set`` parses it: :meth:`taisph.parameters.Range.parse`), and every value must be
+    ``--set`` parses it: :meth:`taisph.scene.parameters.Range.parse`), and every value must be
     in that range."""
     if name not in allowed:
         groups = {"case": "case parameters", "setting": "run settings", "validation": "validation keywords"}

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import inspect
 import io
 import math
 import os
@@ -24,6 +25,10 @@ import socket
 import threading
 import time
 
+from ..engine import runtime
+from ..engine.diagnosis import SimulationError
+from ..engine.timestep import fixed_dt
+from ..run.simulation import Simulation
 from .plan import Task, resolve_case
 
 _ONE_RUN_AT_A_TIME = threading.Lock()
@@ -55,8 +60,6 @@ def blank_result(task: Task) -> dict:
 def fail(result: dict, err: BaseException) -> None:
     """Record `err` in `result`: status ``failed: <first line>`` (a tripped guard's
     first line is its diagnosis), failure: the type and the whole message."""
-    from ..engine.diagnosis import SimulationError
-
     message = str(err).strip() or repr(err)
     first = message.splitlines()[0]
     result["status"] = "failed: " + (first if isinstance(err, SimulationError) else f"{type(err).__name__}: {first}")
@@ -65,10 +68,6 @@ def fail(result: dict, err: BaseException) -> None:
 
 def _scene(task: Task):
     """The run's scene, built as the plain command and the validation runs build it."""
-    import inspect
-
-    from ..engine.timestep import fixed_dt
-
     factory = resolve_case(task.case)
     accepted = inspect.signature(factory).parameters
     scene = factory(**{k: v for k, v in task.params.items() if k in accepted})
@@ -86,8 +85,6 @@ def _scene(task: Task):
 
 
 def _simulation(task: Task, scene):
-    from ..simulation import Simulation
-
     controls = {k: task.settings[k] for k in _CONTROLS if task.settings.get(k) is not None}
     return Simulation(scene, arch="cpu", precision=task.settings["precision"], threads=task.settings.get("threads"),
                       **controls)
@@ -105,17 +102,15 @@ def _warm_up(task: Task, scene) -> float:
 
 
 def _run(task: Task, result: dict) -> None:
-    from ..engine import runtime
-
     with contextlib.redirect_stdout(io.StringIO()):  # ti.init prints "[Taichi] Starting on arch=x64"
         rt = runtime.init("cpu", task.settings["precision"], task.settings.get("threads"))
     result["threads"] = rt.threads
     scene = _scene(task)
     result["compile_s"] = _warm_up(task, scene)
     if task.validate:
-        from .. import validation
+        from ..validation import run as validation_run
 
-        out = validation.run(task.case, precision=task.settings["precision"], **task.params)
+        out = validation_run(task.case, precision=task.settings["precision"], **task.params)
         result.update(steps=out.steps, wall_s=out.wall, fluid_particles=out.fluid, particles=out.particles,
                       sim_time_s=out.sim_time, dt=out.dt, setup_s=out.setup, error=out.error,
                       error_name=out.error_name, metrics=out.metrics, diverged=out.diverged)

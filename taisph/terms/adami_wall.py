@@ -31,6 +31,7 @@ non-physical density.
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import NeighbourPass, Term
 
 
@@ -53,12 +54,12 @@ class AdamiWall(Term):
 
     def check(self, scene):
         if scene.n_wall == 0:
-            raise ValueError("dummy_walls: the scene has no wall particles")
+            raise InputError("dummy_walls: the scene has no wall particles")
         terms = scene.terms_by_name
         for name in ("pressure", "continuity"):
             t = terms.get(name)
             if t is None or not t.options.get("walls"):
-                raise ValueError(
+                raise InputError(
                     f"dummy_walls needs the {name!r} term with walls=True (e.g. PressureGradient(walls=True), "
                     "Continuity(walls=True)): otherwise the wall pressure acts on nothing"
                 )

@@ -16,6 +16,7 @@ same as halving alpha_u. Needs the energy equation (:class:`InternalEnergy`).
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import Term
 
 
@@ -29,7 +30,7 @@ class ArtificialConductivity(Term):
 
     def check(self, scene):
         if not any(t.integrates.get("energy") for t in scene.terms):
-            raise ValueError("artificial_conductivity needs the internal energy equation (InternalEnergy)")
+            raise InputError("artificial_conductivity needs the internal energy equation (InternalEnergy)")
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):

@@ -61,7 +61,8 @@ and the hooks it needs, ``ti.func`` methods the engine calls if the class define
     complete before the rates are summed (wall pressure from the fluid, summation
     density);
 ``check(scene)``
-    (plain Python) raise ValueError if the term cannot work in `scene`.
+    (plain Python) raise :class:`taisph.messages.InputError` (a ValueError; exit
+    code 2 on the command line) if the term cannot work in `scene`, saying what to change.
 
 Inside the hooks ``s`` is the kernel context (:class:`taisph.engine.assembly.Args`:
 sorted state ``s.Sv``, ``s.Ss``, ``s.Si``; parameters ``s.params``; material table
@@ -79,6 +80,7 @@ import numpy as np
 import taichi as ti
 
 from ..engine.layout import FLUID, VARIABLE_H
+from ..messages import InputError
 
 HOOKS = ("pair", "body", "derive")
 
@@ -175,16 +177,16 @@ class Term:
         out = {}
         for k in self.params:
             if k not in self.values:
-                raise ValueError(f"{type(self).__name__}: parameter {k!r} has no value")
+                raise InputError(f"{type(self).__name__}: parameter {k!r} has no value")
             v = self.values[k]
             arr = np.atleast_1d(np.asarray(v, dtype=float))
             if self.params[k] == "vector":
                 if arr.shape != (dim,):
-                    raise ValueError(f"{type(self).__name__}.{k} must have {dim} components, got {v!r}")
+                    raise InputError(f"{type(self).__name__}.{k} must have {dim} components, got {v!r}")
             elif arr.shape != (1,):
-                raise ValueError(f"{type(self).__name__}.{k} must be a number, got {v!r}")
+                raise InputError(f"{type(self).__name__}.{k} must be a number, got {v!r}")
             if not np.all(np.isfinite(arr)):
-                raise ValueError(f"{type(self).__name__}.{k} must be finite, got {v!r}")
+                raise InputError(f"{type(self).__name__}.{k} must be finite, got {v!r}")
             out[k] = arr
         return out
 
@@ -226,10 +228,10 @@ class Term:
         return []
 
     def check(self, scene) -> None:
-        """Raise ValueError if the term cannot work in `scene`; the base class checks
+        """Raise InputError if the term cannot work in `scene`; the base class checks
         that ``walls=True`` has dummy walls to sum over."""
         if self.with_walls and "dummy_walls" not in scene.terms_by_name:
-            raise ValueError(f"{type(self).__name__}(walls=True) needs the dummy-wall term (AdamiWall) in the "
+            raise InputError(f"{type(self).__name__}(walls=True) needs the dummy-wall term (AdamiWall) in the "
                              "scene: wall particles must carry a density, pressure and no-slip velocity")
 
     def describe(self) -> str:

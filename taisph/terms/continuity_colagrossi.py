@@ -16,6 +16,7 @@ eq. 7 (checked in the tests). Fluid neighbours only.
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import Term
 
 
@@ -29,7 +30,7 @@ class ContinuityColagrossi(Term):
 
     def check(self, scene):
         if "continuity" in scene.terms_by_name:
-            raise ValueError("use either Continuity (seed eq. 7) or ContinuityColagrossi, not both")
+            raise InputError("use either Continuity (seed eq. 7) or ContinuityColagrossi, not both")
 
     @ti.func
     def derive(self, s: ti.template(), i):

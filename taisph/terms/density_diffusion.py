@@ -31,6 +31,7 @@ physical density gradient). Needs the continuity equation (it adds to its rate).
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import Term
 
 
@@ -52,9 +53,9 @@ class DensityDiffusion(Term):
 
     def check(self, scene):
         if not any(t.integrates.get("density") == "d_density" for t in scene.terms):
-            raise ValueError("density_diffusion needs the continuity equation (Continuity) in the scene")
+            raise InputError("density_diffusion needs the continuity equation (Continuity) in the scene")
         if not self.values["delta"] >= 0:
-            raise ValueError(f"density_diffusion: delta must be >= 0, got {self.values['delta']!r}")
+            raise InputError(f"density_diffusion: delta must be >= 0, got {self.values['delta']!r}")
 
     def describe(self):
         return super().describe()[:-1] + (", hydrostatic correction)" if self.options["hydrostatic"] else ")")

@@ -21,6 +21,7 @@ own modules, whenever this term is in the scene. Fluid neighbours only.
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import Term
 
 FORMS = ("compatible", "seed")
@@ -41,7 +42,7 @@ class InternalEnergy(Term):
 
     def check(self, scene):
         if self.options["form"] == "compatible" and "pressure" not in scene.terms_by_name:
-            raise ValueError("the compatible energy equation needs the pressure term (PressureGradient), "
+            raise InputError("the compatible energy equation needs the pressure term (PressureGradient), "
                              "whose P/rho^2 it shares")
 
     def describe(self):

@@ -1,5 +1,6 @@
 """Gravity: a uniform body force, dv_a/dt += g."""
 
+import numpy as np
 import taichi as ti
 
 from .base import Term
@@ -17,13 +18,32 @@ class Gravity(Term):
 
     def __init__(self, gravity=None):
         super().__init__() if gravity is None else super().__init__(gravity=gravity)
+        self._default = None  # the default vector check() filled in, if it did
+
+    @staticmethod
+    def default(dim: int) -> tuple:
+        """9.81 m/s^2 along -y (along -x in 1D)."""
+        g = [0.0] * dim
+        g[min(1, dim - 1)] = -9.81
+        return tuple(g)
+
+    def check(self, scene):
+        """A Gravity() given no vector takes the default of the scene's dimension, filled
+        in here (so ``describe()`` and ``scene.parameters()`` show it), again for a scene of
+        another dimension unless it was set since."""
+        super().check(scene)
+        if not self._given():
+            self._default = self.values["gravity"] = self.default(scene.dim)
 
     def param_values(self, dim):
-        if "gravity" not in self.values:
-            g = [0.0] * dim
-            g[min(1, dim - 1)] = -9.81
-            self.values["gravity"] = tuple(g)
+        """The parameter values for `dim` (pure: reading changes nothing)."""
+        if not self._given():
+            return {"gravity": np.asarray(self.default(dim), float)}
         return super().param_values(dim)
+
+    def _given(self) -> bool:
+        """Was a vector given (or set since), rather than the default filled in?"""
+        return "gravity" in self.values and self.values["gravity"] is not getattr(self, "_default", None)
 
     @ti.func
     def body(self, s: ti.template(), i, rates: ti.template()):

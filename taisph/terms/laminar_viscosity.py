@@ -17,6 +17,7 @@ the wall density it sets from the wall pressure. Without it walls exert no shear
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import Term
 
 
@@ -31,7 +32,7 @@ class LaminarViscosity(Term):
     def check(self, scene):
         nu = self.values.get("nu")
         if nu is None or not nu >= 0:
-            raise ValueError(f"LaminarViscosity needs a kinematic viscosity nu >= 0 (m^2/s), got {nu!r}")
+            raise InputError(f"LaminarViscosity needs a kinematic viscosity nu >= 0 (m^2/s), got {nu!r}")
         super().check(scene)
 
     @ti.func

@@ -15,6 +15,7 @@ the cut-off sees a capped (still strongly repulsive) force instead of an overflo
 import taichi as ti
 
 from ..engine.layout import WALL
+from ..messages import InputError
 from .base import Term
 
 
@@ -33,9 +34,9 @@ class LennardJonesWall(Term):
     def check(self, scene):
         support = scene.support_radius
         if self.values.get("lj_cutoff") is None or self.values.get("lj_strength") is None:
-            raise ValueError("LennardJonesWall needs lj_strength (D) and lj_cutoff (r0)")
+            raise InputError("LennardJonesWall needs lj_strength (D) and lj_cutoff (r0)")
         if not 0 < self.values["lj_cutoff"] <= support:
-            raise ValueError(
+            raise InputError(
                 f"lj_cutoff r0 = {self.values['lj_cutoff']} must be positive and within the "
                 f"kernel support radius {support} (the neighbour search range)"
             )

@@ -32,6 +32,7 @@ neighbours only.
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import Term
 
 
@@ -47,7 +48,7 @@ class ParticleShifting(Term):
             self.values["shift_dx"] = scene.dx
         u = self.values.get("shift_speed")
         if u is None or not u >= 0:
-            raise ValueError(f"particle_shifting needs shift_speed >= 0 (the reference flow speed, m/s), got {u!r}")
+            raise InputError(f"particle_shifting needs shift_speed >= 0 (the reference flow speed, m/s), got {u!r}")
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):

@@ -25,6 +25,7 @@ Fluid neighbours only (walls act by the Lennard-Jones force).
 import taichi as ti
 
 from ..engine.layout import FLUID
+from ..messages import InputError
 from .base import Term
 
 
@@ -37,7 +38,7 @@ class PressureHuAdams(Term):
 
     def check(self, scene):
         if "pressure" in scene.terms_by_name:
-            raise ValueError("use either PressureGradient (seed eq. 8) or PressureHuAdams, not both")
+            raise InputError("use either PressureGradient (seed eq. 8) or PressureHuAdams, not both")
 
     @ti.func
     def derive(self, s: ti.template(), i):

@@ -23,6 +23,7 @@ import numpy as np
 import taichi as ti
 
 from ..engine.layout import VARIABLE_H
+from ..messages import InputError
 from .base import Term
 
 
@@ -42,10 +43,10 @@ class AdaptiveSmoothingLength(Term):
 
     def check(self, scene):
         if "xsph" in scene.terms_by_name:
-            raise ValueError("XSPH assumes a constant smoothing length; it cannot be used with adaptive_h")
+            raise InputError("XSPH assumes a constant smoothing length; it cannot be used with adaptive_h")
         h = self.initial(scene)
         if h.size and h.max() > scene.smoothing_length * (1 + 1e-12):
-            raise ValueError(
+            raise InputError(
                 f"scene {scene.name!r}: the initial smoothing lengths reach {h.max():.4g}, above the scene's "
                 f"smoothing_length {scene.smoothing_length:.4g}, the largest h allowed (it sets the "
                 "neighbour search range); raise smoothing_length"

@@ -13,6 +13,7 @@ each particle's own h, rho_a = sum_b m_b W(r_ab, h_a).
 
 import taichi as ti
 
+from ..messages import InputError
 from .base import NeighbourPass, Term
 
 
@@ -27,7 +28,7 @@ class SummationDensity(Term):
 
     def check(self, scene):
         if any(t.integrates.get("density") for t in scene.terms):
-            raise ValueError("summation_density and an evolved density (continuity) cannot both be used")
+            raise InputError("summation_density and an evolved density (continuity) cannot both be used")
         super().check(scene)
 
 

@@ -4,13 +4,12 @@
 :mod:`taisph.validation.references` holds the references (analytic solutions, the exact
 Riemann solver, the Sedov-Taylor similarity solution, experimental data);
 :mod:`taisph.validation.accuracy_cost` is the work-precision study over them
-(``python tools/accuracy_cost.py``), and :mod:`taisph.validation.seed_scenes` the
+(``python -m tools.studies.accuracy_cost``), and :mod:`taisph.validation.seed_scenes` the
 resolutions and recorder with which the seed's three scenes are measured (the tests
-and ``tools/seed_measure.py``).
+and ``python -m tools.studies.seed_measure``).
 """
 
-from .runs import (VALIDATIONS, Outcome, couette, dam_break, elliptical_drop, hydrostatic_tank, poiseuille,
-                   reference, run, taylor_green)
+from .runs import VALIDATIONS, Outcome, couette, dam_break, elliptical_drop, hydrostatic_tank, poiseuille, reference, run, taylor_green
 
 __all__ = ["VALIDATIONS", "Outcome", "run", "reference", "dam_break", "hydrostatic_tank", "poiseuille",
            "couette", "taylor_green", "elliptical_drop"]

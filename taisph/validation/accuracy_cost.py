@@ -23,7 +23,7 @@ process and configuration). Runs are grouped by precision (Taichi's precision is
 process-wide). Each wall time is one run (``repeat`` N takes the median of N): on a
 shared 2-core machine timings vary by up to 2x, so read differences below ~30 % as
 noise. The command line is
-``python tools/accuracy_cost.py`` (docs/accuracy.md); ``quick=True`` is its CI mode,
+``python -m tools.studies.accuracy_cost`` (docs/accuracy.md); ``quick=True`` is its CI mode,
 which tests/test_accuracy_study.py runs.
 """
 
@@ -37,6 +37,7 @@ import platform
 import statistics
 import subprocess
 import time
+from importlib.metadata import version
 from pathlib import Path
 
 import numpy as np
@@ -289,7 +290,6 @@ def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
     (a ``distributed.Client``), else on the cluster at `scheduler`, else on a
     LocalCluster of `workers` processes. `threads`: CPU threads per run (default:
     cores / workers on a LocalCluster, 1 on an existing cluster)."""
-    import taisph
     from ..sweeps.cluster import connect, run_tasks
 
     cases = list(cases or (QUICK_CASES if quick else STUDY))
@@ -339,7 +339,7 @@ def run_study(out, cases=None, quick: bool = False, repeat: int = 1,
 
     taichi_version = ".".join(map(str, ti.__version__))
     header = (f"# Accuracy and cost\n\nMade by `{command}` in {total / 60:.1f} min "
-              f"(taisph {taisph.__version__} at commit {git_commit()}, taichi {taichi_version}, "
+              f"(taisph {version('taisph')} at commit {git_commit()}, taichi {taichi_version}, "
               f"Python {platform.python_version()}, {os.cpu_count()} cores, "
               f"{'/'.join(map(str, sorted(used_threads))) or '?'} thread(s) per run, "
               f"{'cluster' if scheduler or client else workers} run(s) at a time). Wall time: stepping only, "

@@ -37,6 +37,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ..formats.scenefile import load
+from ..probes import Probes
+from ..run.simulation import Simulation, SimulationError
+from ..scene.catalogue import find_scene_file
+
 DATA = Path(__file__).resolve().parent / "references" / "data"
 H, G, RHO0 = 0.6, 9.81, 1000.0
 IMPACT_LEVEL = 0.1  # P at which the impact is timed
@@ -55,8 +60,6 @@ def reference(sensor: str = "P1"):
 
 
 def scene_file() -> Path:
-    from ..scenefile_build import find_scene_file
-
     return find_scene_file("dam_break_probes_2d.toml")
 
 
@@ -91,10 +94,6 @@ def run(dx: float = 0.01, t_end: float | None = None, out=None, overrides: dict 
     Returns {"P1": metrics, ..., "P1_series": (T, P), ..., "dx", "steps", "wall_s",
     "fluid", "t_end", "stopped"} ("stopped": the first line of a guard's diagnosis,
     or "")."""
-    from ..probes import Probes
-    from ..scenefile import load
-    from ..simulation import Simulation, SimulationError
-
     scale = math.sqrt(G / H)
     t_end = 6.1 / scale if t_end is None else t_end
     scene, settings = load(scene_file(), {"dx": dx, "t_end": t_end, **(overrides or {})})

@@ -5,7 +5,7 @@ it, compares it with its reference and returns an :class:`Outcome`: one headline
 ``error`` (the number the accuracy study plots), all the metrics computed on the way,
 and the cost (steps, particles, wall seconds spent stepping, which excludes building
 the simulation and compiling its kernels). The references are analytic
-(:mod:`taisph.analytic`) or experimental (CSV files in ``taisph/validation/references/data/`` with their
+(:mod:`taisph.validation.references.analytic`) or experimental (CSV files in ``taisph/validation/references/data/`` with their
 sources in the headers). Tolerances and measured values: ``docs/validation.md``.
 
     >>> from taisph import validation
@@ -29,7 +29,8 @@ import numpy as np
 
 from .references import analytic
 from ..engine.timestep import fixed_dt
-from ..simulation import Simulation
+from ..run.simulation import Simulation
+from ..scene import catalogue
 
 DATA = Path(__file__).resolve().parent / "references" / "data"
 
@@ -80,13 +81,11 @@ class _Runner:
     scene's ``solver``)."""
 
     def __init__(self, case, params, precision):
-        from .. import cases
-
         params = dict(params)
         dt_factor = params.pop("dt_factor", 1.0)
         controls = params.pop("controls", None) or {}
         solver = params.pop("solver", None)
-        self.scene = getattr(cases, case)(**params)
+        self.scene = catalogue.find(case)(**params)
         if solver is not None:
             self.scene.solver = solver
         if dt_factor != 1.0:

@@ -1,11 +1,11 @@
 """The seed's three scenes (report sec. 6) as they are measured: the resolutions at which
-tests/test_seed_cases.py asserts their quantities and tools/seed_measure.py prints them
+tests/test_seed_cases.py asserts their quantities and python -m tools.studies.seed_measure prints them
 (docs/seed.md quotes both), the wedge's corners, and a recorder of a run's frames.
 """
 
 from __future__ import annotations
 
-from ..simulation import Simulation
+from ..run.simulation import Simulation
 
 G = 9.81  # m/s^2, the cases' default gravity
 DX_WEDGE = 0.04  # dam_break_wedge

@@ -1,15 +1,28 @@
-"""The kernel bodies of a DFSPH step (:mod:`.dfsph` has the method, its equations and
+"""The kernel bodies of a DFSPH step (:mod:`.solver` has the method, its equations and
 the host side that iterates the solves): :class:`Bodies`, the kernels of one field set.
-What one neighbour contributes to each sum is in :mod:`.dfsph_visitors`.
+What one neighbour contributes to each sum is in :mod:`.visitors`.
+
+The measured choices of the method are compiled in (docs/dfsph.md, "The measured
+choices", records the alternatives): each solve starts from the last step's pressures
+in full (warm start 1; 0.9 did not converge on still water); the update is a projected
+Jacobi iteration, in which pressures may fall but not below zero (SPlisHSPlasH's
+pressures that only rise gave still water a 24 % error); a particle short of the rest
+density (a free surface) must keep its density; the walls mirror the pressure with the
+share :data:`WALL_MIRROR` and add the hydrostatic head (:class:`.visitors.NonPressure`).
 """
 
 import taichi as ti
 
-from . import guards, kernels, pairs
-from . import status as st
-from .layout import FLUID, WALL
-from .dfsph import CHUNKS
-from .dfsph_visitors import DensityVisitor, NonPressure, WallGather
+from .. import guards, kernels
+from . import pairs
+from .. import status as st
+from ..layout import FLUID, WALL
+from .visitors import DensityVisitor, NonPressure, WallGather
+
+CHUNKS = 128  # the error sums: per chunk of particles, then a serial sum (an atomic add costs 5x more)
+# phi, the wall's share of the pressure term, phi k_i sum_wall g_ij: 2 is p_wall = p_i in
+# the symmetric form (1 crushed particles into the wall, 1.5 left still water 7-12 % off, 3 stalled dt)
+WALL_MIRROR = 2.0
 
 
 @ti.func
@@ -65,7 +78,7 @@ class Bodies:
         @ti.func
         def body(s_mem: ti.template(), t_target):
             ti.static(kernels._traced("dfsph", "density"))
-            for i in range(s_mem.sizes[4]):
+            for i in range(s_mem.sizes[st.N_PARTICLES]):
                 kind = s_mem.Si[q.kind, i]
                 if kind == FLUID:
                     s = ti.static(s_mem._replace(params=local(s_mem)))
@@ -76,16 +89,11 @@ class Bodies:
                     if not plist.close(s, i, acc.k):
                         guards.trip(s, q, i, st.CROWDED)
                     s.Ss[q.density, i] = acc.rho
-                    phi = s.params[p["dfsph_wall_mirror"]]
-                    gsum = acc.gf + phi * acc.gb
+                    gsum = acc.gf + WALL_MIRROR * acc.gb
                     denominator = gsum.dot(acc.gf + acc.gb) + acc.g2
                     s.Ss[q.alpha, i] = 1.0 / denominator if denominator > 0.0 else 0.0
                     s.Sv[q.gsum, i] = gsum
-                    s.Ss[q.source, i] = acc.div
-                    if acc.div > 0.0 or s.params[p["dfsph_increase_only"]] == 0.0:
-                        s.Ss[q.kappa_v, i] *= s.params[p["dfsph_warm_start"]]
-                    else:
-                        s.Ss[q.kappa_v, i] = 0.0
+                    s.Ss[q.source, i] = acc.div  # kappa_v: the last step's, the solve's warm start
                 else:  # walls (and removed particles): no pressure, no acceleration, their own velocity
                     s_mem.Ss[q.kappa, i] = 0.0
                     s_mem.Ss[q.kappa_v, i] = 0.0
@@ -103,7 +111,7 @@ class Bodies:
             # divergence solve has nothing to do (the host skips it, and ``middle`` with it)
             for c in range(CHUNKS):
                 dt = ti.cast(s_mem.status[st.DT], real)
-                begin, end = _chunk(s_mem.sizes[4], c)
+                begin, end = _chunk(s_mem.sizes[st.N_PARTICLES], c)
                 error = ti.cast(0.0, ti.f64)
                 count = 0
                 for i in range(begin, end):
@@ -152,14 +160,14 @@ class Bodies:
         @ti.func
         def body(s_mem: ti.template(), t_target):
             ti.static(kernels._traced("dfsph", "density solve" if density else "divergence solve"))
-            for i in range(s_mem.sizes[4]):
+            for i in range(s_mem.sizes[st.N_PARTICLES]):
                 if s_mem.Si[q.kind, i] == FLUID:
                     s_mem.Sv[q.acc_p, i] = acceleration(s_mem, i, row)
             for c in range(CHUNKS):
                 s = ti.static(s_mem._replace(params=local(s_mem)))
                 dt = ti.cast(s.status[st.DT], real)
                 scale = dt * dt if ti.static(density) else dt
-                begin, end = _chunk(s.sizes[4], c)
+                begin, end = _chunk(s.sizes[st.N_PARTICLES], c)
                 error = ti.cast(0.0, ti.f64)
                 count = 0
                 for i in range(begin, end):
@@ -180,13 +188,10 @@ class Bodies:
                         # (there the density must be rho0 both ways; at zero pressure, as at a
                         # free surface, a lower density is allowed)
                         compression = ti.max(residual, 0.0) / rho0
-                        if s.Ss[row, i] > 0.0 and s.params[p["dfsph_increase_only"]] == 0.0:
+                        if s.Ss[row, i] > 0.0:
                             compression = ti.abs(residual) / rho0
-                        if dt > 0.0:
-                            update = residual
-                            if s.params[p["dfsph_increase_only"]] > 0.0:
-                                update = ti.max(update, 0.0)
-                            s.Ss[row, i] = ti.max(0.0, s.Ss[row, i] + s.params[p["dfsph_relaxation"]] * update
+                        if dt > 0.0:  # projected Jacobi: a pressure may fall, not below zero
+                            s.Ss[row, i] = ti.max(0.0, s.Ss[row, i] + s.params[p["dfsph_relaxation"]] * residual
                                                   * s.Ss[q.alpha, i] / scale)
                         if ti.static(not density):
                             compression *= dt
@@ -204,7 +209,7 @@ class Bodies:
     def middle(self):
         """v += dt a(kv) (the divergence solve's result); the walls' no-slip velocity;
         the non-pressure forces and v*; the predicted density rho* (the
-        constant-density solve's source) and its warm start."""
+        constant-density solve's source)."""
         solver = self.solver
         q, grid, plist, x = self.q, self.grid, self.plist, self.x
         f = x.pairs
@@ -222,7 +227,7 @@ class Bodies:
         def body(s_mem: ti.template(), t_target):
             dt = ti.cast(s_mem.status[st.DT], real)
             skipped = x.result[1] <= s_mem.params[p["dfsph_divergence_tolerance"]]  # no divergence solve
-            for i in range(s_mem.sizes[4]):
+            for i in range(s_mem.sizes[st.N_PARTICLES]):
                 if s_mem.Si[q.kind, i] == FLUID:
                     if skipped:
                         s_mem.Ss[q.kappa_v, i] = 0.0
@@ -231,14 +236,14 @@ class Bodies:
             if ti.static(wall_velocity):
                 # no-slip velocity of the walls (Adami et al. 2012 eq. 22-23), from the sums
                 # gathered in step 1: v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf
-                for i in range(s_mem.sizes[4]):
+                for i in range(s_mem.sizes[st.N_PARTICLES]):
                     if s_mem.Si[q.kind, i] == WALL:
                         ghost = s_mem.Sv[q.velocity, i]
                         weight = s_mem.Ss[q.wall_weight, i]
                         if weight > 0.0:
                             ghost = 2.0 * ghost - s_mem.Sv[q.wall_velocity, i] / weight
                         s_mem.Sv[q.wall_velocity, i] = ghost
-            for i in range(s_mem.sizes[4]):
+            for i in range(s_mem.sizes[st.N_PARTICLES]):
                 if s_mem.Si[q.kind, i] == FLUID:
                     s = ti.static(s_mem._replace(params=local(s_mem)))
                     rates = Rates(acc=ti.Vector.zero(real, dim))
@@ -255,7 +260,7 @@ class Bodies:
                     s.Sv[q.vstar, i] = s.Sv[q.velocity, i] + dt * rates.acc
                     if ti.static(has_shift):
                         s.Sv[q.shift, i] = rates.shift
-            for i in range(s_mem.sizes[4]):
+            for i in range(s_mem.sizes[st.N_PARTICLES]):
                 if s_mem.Si[q.kind, i] == FLUID:
                     s = ti.static(s_mem._replace(params=local(s_mem)))
                     xi = s.Sv[q.position, i]
@@ -268,17 +273,8 @@ class Bodies:
                     # compression beyond the rest density (a particle short of rho0, as at a free
                     # surface, keeps its density: it must not be compressed either)
                     rest = s.mat[s.Si[q.material, i], rho0_col] * s.params[p["dfsph_rest_ratio"]]
-                    excess = s.Ss[q.density, i] - rest
-                    if s.params[p["dfsph_surface_hold"]] > 0.0:
-                        excess = ti.max(excess, 0.0)
-                    source = excess + dt * change
-                    s.Ss[q.source, i] = source
-                    # warm start; pressures that only rise (SPlisHSPlasH's rule) start only where
-                    # the particle is being compressed: a free surface's would push it out
-                    if source > 0.0 or s.params[p["dfsph_increase_only"]] == 0.0:
-                        s.Ss[q.kappa, i] *= s.params[p["dfsph_warm_start"]]
-                    else:
-                        s.Ss[q.kappa, i] = 0.0
+                    excess = ti.max(s.Ss[q.density, i] - rest, 0.0)
+                    s.Ss[q.source, i] = excess + dt * change  # kappa: the last step's, the warm start
 
         return body
 
@@ -298,9 +294,9 @@ class Bodies:
         @ti.func
         def body(s_mem: ti.template(), t_target):
             dt = ti.cast(s_mem.status[st.DT], real)
-            for i in range(s_mem.sizes[4]):
+            for i in range(s_mem.sizes[st.N_PARTICLES]):
                 s = ti.static(s_mem._replace(params=local(s_mem)))
-                copy(s[3:6], i, s[:3], i)  # S -> C
+                copy(s.S, i, s.C, i)
                 kind = s.Si[q.kind, i]
                 if kind == FLUID:
                     a = acceleration(s, i, q.kappa)

@@ -8,7 +8,7 @@ problem, a mesh that is not one: open edges (holes), edges shared by more than t
 cells, cells that run a shared edge the same way (inconsistent orientation), or no
 enclosed volume (area in 2D). A surface facing inwards is turned outwards.
 
-The particle generators built on it are in :mod:`taisph.mesh_fill`
+The particle generators built on it are in :mod:`taisph.geometry.fill`
 (``surface_points``, ``volume_points``, re-exported by :mod:`taisph.geometry`).
 """
 
@@ -215,7 +215,7 @@ def winding_number(surface: ClosedSurface, points) -> np.ndarray:
     a, b, c the vertices relative to the point (Van Oosterom & Strackee 1983, IEEE
     Trans. Biomed. Eng. 30:125; Jacobson et al. 2013, ACM TOG 32:33). 2D: the sum of
     the segments' signed angles over 2 pi. O(points x cells): for checks and small
-    meshes; :func:`taisph.mesh_fill.volume_points` fills lattices in O(points).
+    meshes; :func:`taisph.geometry.fill.volume_points` fills lattices in O(points).
     """
     points = np.asarray(points, float).reshape(-1, surface.dim)
     corners = surface.corners
@@ -319,3 +319,25 @@ def box_mesh(lo, hi) -> tuple:
     f = [(0, 2, 3), (0, 3, 1), (4, 5, 7), (4, 7, 6), (0, 1, 5), (0, 5, 4), (2, 6, 7), (2, 7, 3),
          (0, 4, 6), (0, 6, 2), (1, 3, 7), (1, 7, 5)]
     return v, np.array(f)
+
+
+def sliver_box(lo, hi, n=80) -> tuple:
+    """Vertices and outward triangles of the box [lo, hi] as a CAD export may tessellate
+    it: its four faces along x cut into n strips at x_k = lo + (hi - lo) (k/n)^1.5
+    (uneven), each strip two long thin triangles (aspect up to about n); the two end
+    faces two triangles each. The same box as :func:`box_mesh`, 8n + 4 triangles."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    x = lo[0] + (hi[0] - lo[0]) * (np.arange(n + 1) / n) ** 1.5
+    ring = [(lo[1], lo[2]), (hi[1], lo[2]), (hi[1], hi[2]), (lo[1], hi[2])]  # around x
+    vertices = np.array([[xk, y, z] for xk in x for y, z in ring])
+    faces = []
+    for k in range(n):
+        for j in range(4):
+            a, b = 4 * k + j, 4 * k + (j + 1) % 4
+            faces += [(a, a + 4, b + 4), (a, b + 4, b)]
+    faces += [(0, 2, 1), (0, 3, 2), (4 * n, 4 * n + 1, 4 * n + 2), (4 * n, 4 * n + 2, 4 * n + 3)]
+    faces = np.array(faces)
+    corners = vertices[faces]  # turn every triangle outwards (the box is convex)
+    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    outward = np.einsum("ij,ij->i", normal, corners.mean(axis=1) - (lo + hi) / 2) > 0
+    return vertices, np.where(outward[:, None], faces, faces[:, ::-1])

@@ -23,10 +23,10 @@ A fixed time step from the initial state: :func:`taisph.engine.timestep.initial_
 
 from __future__ import annotations
 
-from .eos import IdealGas
-from .terms import (AdaptiveSmoothingLength, ArtificialConductivity, ArtificialViscosity, Continuity,
-                    InternalEnergy, PressureGradient, SummationDensity)
-from .eos.ideal_gas import energy, pressure, sound_speed
+from ..eos import IdealGas
+from ..terms import AdaptiveSmoothingLength, ArtificialConductivity, ArtificialViscosity, Continuity, InternalEnergy, PressureGradient, SummationDensity
+from ..eos.ideal_gas import energy, pressure, sound_speed
+from ..messages import InputError
 
 __all__ = ["effects", "IdealGas", "energy", "pressure", "sound_speed", "DENSITY"]
 
@@ -38,7 +38,7 @@ def effects(density: str = "summation", conductivity: bool = True, variable_h: b
             energy_form: str = "compatible") -> list:
     """The terms of SPH gas dynamics (see the module docstring)."""
     if density not in DENSITY:
-        raise ValueError(f"density must be one of {', '.join(DENSITY)}, got {density!r}")
+        raise InputError(f"density must be one of {', '.join(DENSITY)}, got {density!r}")
     terms = [SummationDensity() if density == "summation" else Continuity()]
     if variable_h:
         terms.append(AdaptiveSmoothingLength(h_factor=h_factor))

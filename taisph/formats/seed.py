@@ -2,7 +2,7 @@
 scene as those files, and judge the health of a run from them.
 
 :func:`load_scene` builds a :class:`taisph.Scene` from a particle file and an optional
-boundary file (read by :mod:`taisph.io.dat`) with :class:`Physics` (defaults computed
+boundary file (read by :mod:`taisph.formats.dat`) with :class:`Physics` (defaults computed
 from the particles), :func:`export_scene` writes a scene as those files plus the
 ``run`` command line that simulates it exactly, and :func:`health` lists what is wrong
 with a run's fluid state. The commands ``python -m taisph run`` and ``export`` are
@@ -18,17 +18,18 @@ from pathlib import Path
 
 import numpy as np
 
-from .io import dat as seedio
-from .scene import Material, Scene
-from .terms import (ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall,
-                    PressureGradient, PressureHuAdams)
-from .engine.timestep import fixed_dt
-from .eos import tait
+from . import dat as seedio
+from ..messages import InputError
+from ..scene import water
+from ..scene.model import Material, Scene
+from ..scene.names import INTEGRATORS, KERNELS, UP
+from ..terms import ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall, PressureGradient, PressureHuAdams
+from ..engine.timestep import fixed_dt
+from ..eos import tait
 
 # the seed's words for integrators and kernels (the `run` command's INTEGRATOR, KERNEL)
-INTEGRATOR_WORDS = {"euler": "euler", "eulermid": "eulermid", "eulermom": "eulermom", "pc": "pc",
-                    "predictorcorrector": "pc"}
-KERNEL_WORDS = ("spline", "gaussian", "wendland")
+INTEGRATOR_WORDS = {**{name: name for name in INTEGRATORS}, "predictorcorrector": "pc"}
+KERNEL_WORDS = KERNELS
 FORMULATIONS = {
     "seed": (Continuity, PressureGradient),  # seed eqs. 7-8
     "multiphase": (ContinuityColagrossi, PressureHuAdams),  # Colagrossi & Landrini, Hu & Adams
@@ -63,7 +64,7 @@ def _per_material(values, n, name):
     if len(values) == 1:
         return values * n
     if len(values) != n:
-        raise ValueError(f"--{name} has {len(values)} values but --rho0 defines {n} material(s)")
+        raise InputError(f"--{name} has {len(values)} values but --rho0 defines {n} material(s)")
     return values
 
 
@@ -71,7 +72,7 @@ def _wall_spacing(points: np.ndarray) -> float:
     """Median distance from a wall particle to its nearest wall neighbour (from up to
     512 evenly chosen particles, brute force)."""
     if len(points) < 2:
-        raise ValueError("one wall particle gives no spacing; set --lj-cutoff")
+        raise InputError("one wall particle gives no spacing; set --lj-cutoff")
     sample = points[:: max(1, len(points) // 512)]
     best = np.full(len(sample), np.inf)
     for start in range(0, len(points), 4096):
@@ -87,7 +88,7 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
                frames: int = 20, name: str | None = None):
     """A :class:`taisph.Scene` from a seed particle file (and boundary file).
 
-    `particles` and `boundary` are paths or :class:`taisph.io.dat.ParticleData`.
+    `particles` and `boundary` are paths or :class:`taisph.formats.dat.ParticleData`.
     Returns ``(scene, energy)``: ``energy`` is the particle file's energy column (in
     index order), which taisph does not evolve (the liquid's energy is decoupled,
     seed sec. 2) and writes back unchanged. The pressure column is not used:
@@ -106,10 +107,9 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
         if walls.dim != dim:
             raise seedio.SeedFileError(walls.path, f"the boundary file is {walls.dim}D but the particle file "
                                                    f"{fluid.path} is {dim}D")
-    up = 1  # y is vertical, as in the seed (and taisph's cases)
     rho0 = [float(r) for r in p.rho0]
     if not rho0 or any(not (math.isfinite(r) and r > 0) for r in rho0):
-        raise ValueError(f"--rho0 must be positive numbers, got {p.rho0!r}")
+        raise InputError(f"--rho0 must be positive numbers, got {p.rho0!r}")
     n_mat = len(rho0)
 
     # --- materials: each particle gets the reference density nearest its density -------
@@ -130,19 +130,19 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
     spacing = float(np.median((fluid.mass / np.asarray(rho0)[material]) ** (1.0 / dim)))
     all_pos = fluid.position if walls is None or walls.n == 0 else np.concatenate([fluid.position, walls.position])
     g_vec = np.zeros(dim)
-    g_vec[up] = -9.81
+    g_vec[UP] = -9.81  # y is vertical, as in the seed (and taisph's cases)
     if p.gravity is not None:
         g_vec = np.asarray(p.gravity, float).ravel()
         if g_vec.shape != (dim,) or not np.all(np.isfinite(g_vec)):
-            raise ValueError(f"--gravity needs {dim} finite components, got {p.gravity!r}")
+            raise InputError(f"--gravity needs {dim} finite components, got {p.gravity!r}")
     g = float(np.linalg.norm(g_vec))
-    height = float(fluid.position[:, up].max() - all_pos[:, up].min())
+    height = float(fluid.position[:, UP].max() - all_pos[:, UP].min())
     if p.c0 is None:
         v_max = float(np.linalg.norm(fluid.velocity, axis=1).max())
-        u_scale = max(math.sqrt(2.0 * g * height), v_max)
-        if u_scale <= 0:
-            raise ValueError("cannot choose a sound speed: no gravity and no initial velocity; set --c0")
-        c0 = [10.0 * u_scale] * n_mat
+        c0 = water.sound_speed(g, height, v_max)
+        if c0 <= 0:
+            raise InputError("cannot choose a sound speed: no gravity and no initial velocity; set --c0")
+        c0 = [c0] * n_mat
     else:
         c0 = _per_material(p.c0, n_mat, "c0")
     gamma = _per_material(p.gamma, n_mat, "gamma")
@@ -157,7 +157,7 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
     if formulation == "auto":
         formulation = "multiphase" if n_mat > 1 else "seed"
     if formulation not in FORMULATIONS:
-        raise ValueError(f"unknown formulation {formulation!r}; choose seed, multiphase or auto")
+        raise InputError(f"unknown formulation {formulation!r}; choose seed, multiphase or auto")
     continuity, pressure = FORMULATIONS[formulation]
     terms = [continuity(), pressure(), ArtificialViscosity(alpha=p.alpha, beta=p.beta, eta_factor=p.eta_factor),
              Gravity(gravity=tuple(float(v) for v in g_vec))]
@@ -166,8 +166,8 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
         r0 = _wall_spacing(walls.position) if p.lj_cutoff is None else float(p.lj_cutoff)
         if p.lj_strength is None:
             if g * height <= 0:
-                raise ValueError("cannot choose the wall strength without gravity; set --lj-strength")
-            strength = 5.0 * g * height / r0
+                raise InputError("cannot choose the wall strength without gravity; set --lj-strength")
+            strength = water.lennard_jones_strength(g, height, r0)
         else:
             strength = float(p.lj_strength)
         terms.append(LennardJonesWall(lj_strength=strength, lj_cutoff=r0))
@@ -178,7 +178,7 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
     else:
         box = np.asarray(p.domain, float).ravel()
         if box.shape != (2 * dim,):
-            raise ValueError(f"--domain needs {2 * dim} numbers (lo then hi corner), got {p.domain!r}")
+            raise InputError(f"--domain needs {2 * dim} numbers (lo then hi corner), got {p.domain!r}")
         lo, hi = box[:dim], box[dim:]
     scene = Scene(
         name=name or Path(fluid.path).stem,
@@ -225,7 +225,7 @@ def export_scene(scene, folder, t_end: float | None = None, dt: float | None = N
 
     Raises ValueError (writing nothing) if the scene uses something the files and
     the command's options cannot express."""
-    from .engine.layout import FLUID, WALL
+    from ..engine.layout import FLUID, WALL
 
     scene.validate()
     names = [t.name for t in scene.terms]
@@ -236,25 +236,25 @@ def export_scene(scene, folder, t_end: float | None = None, dt: float | None = N
     expected = ["artificial_viscosity", "gravity"] + (["lennard_jones_wall"] if scene.n_wall else [])
     if formulation is None or names[2:] != expected:
         want = " or ".join(f"[{c.name}, {p.name}, {', '.join(expected)}]" for c, p in FORMULATIONS.values())
-        raise ValueError(f"cannot export {scene.name!r}: its terms {names} are not the seed workflow's ({want})")
+        raise InputError(f"cannot export {scene.name!r}: its terms {names} are not the seed workflow's ({want})")
     if scene.n_wall:
         lj = scene.terms_by_name["lennard_jones_wall"]
         if lj.options != {"p1": 12, "p2": 6}:
-            raise ValueError(f"cannot export {scene.name!r}: Lennard-Jones exponents {lj.options} (run uses 12, 6)")
+            raise InputError(f"cannot export {scene.name!r}: Lennard-Jones exponents {lj.options} (run uses 12, 6)")
     fluid = scene.kind == FLUID
     wall = scene.kind == WALL
     if np.any(scene.material[wall] != 0):
-        raise ValueError(f"cannot export {scene.name!r}: wall particles of a material other than 0")
+        raise InputError(f"cannot export {scene.name!r}: wall particles of a material other than 0")
     rho0 = np.array([m.rho0 for m in scene.materials])
     nearest = np.argmin(np.abs(np.log(scene.density[fluid, None] / rho0[None, :])), axis=1)
     if np.any(nearest != scene.material[fluid]):
-        raise ValueError(f"cannot export {scene.name!r}: a particle's material is not the one whose rho0 is "
+        raise InputError(f"cannot export {scene.name!r}: a particle's material is not the one whose rho0 is "
                          "nearest its density, which is how `run` assigns materials")
     if np.any(np.abs(scene.density[fluid] / rho0[scene.material[fluid]] - 1) > MAX_DENSITY_DEVIATION):
-        raise ValueError(f"cannot export {scene.name!r}: a density is more than "
+        raise InputError(f"cannot export {scene.name!r}: a density is more than "
                          f"{100 * MAX_DENSITY_DEVIATION:g} % from its rho0")
     if scene.dim not in seedio.COLUMNS:
-        raise ValueError(f"cannot export {scene.name!r}: the seed format is 2D or 3D, not {scene.dim}D")
+        raise InputError(f"cannot export {scene.name!r}: the seed format is 2D or 3D, not {scene.dim}D")
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

@@ -1,12 +1,8 @@
-"""Scene files: a scene described in TOML, run with ``python -m taisph SCENE.toml``.
+"""Scene files, first half: reading and checking a scene described in TOML (``python -m taisph SCENE.toml``).
 
-:func:`read` parses and checks a file completely (meshes included) and returns a
-:class:`SceneSpec`; nothing is built or written before every key has been checked,
-and every error names the file, the key (``fluid[1].box``) and the value.
-:func:`taisph.scenefile_build.build` turns a spec into a :class:`taisph.Scene` and
-:class:`RunSettings`; :func:`load` does both. The schema is documented in
-docs/scenes.md; ``cases/*.toml`` are examples. The Python API stays the way to
-script; a scene file is the way to run without code.
+:func:`read` parses and checks a file completely (meshes included) and returns a :class:`SceneSpec`;
+nothing is built or written before every key has been checked, and every error names the file, the key
+(``fluid[1].box``) and the value. :mod:`taisph.formats.scenefile` builds the scene. Schema: docs/scenes.md.
 """
 
 from __future__ import annotations
@@ -14,7 +10,7 @@ from __future__ import annotations
 import math
 import re
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 if sys.version_info >= (3, 11):
@@ -22,36 +18,52 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10 (the tomli dependency)
     import tomli as tomllib
 
-from .mesh import MeshError, load_surface
-from .probes.spec import KINDS, Probe  # noqa: F401  (Probe: what [[probes]] become)
+import numpy as np
 
-SOLVERS = ("wcsph", "dfsph")  # the solvers a scene file can ask for (taisph.Scene.solver)
-COMING = {}  # solvers named but not available yet: name -> message
-WALL_MODELS = ("dummy", "lj")
-PROBE_KINDS = KINDS  # pressure, elevation, force
-KERNELS = ("spline", "gaussian", "wendland")
-INTEGRATORS = ("pc", "euler", "eulermid", "eulermom")
-UP = 1  # the vertical axis: y, in 2D and 3D
+from ..engine import smoothing
+from ..geometry.mesh import MeshError, load_surface
+from ..messages import InputError
+from ..probes.spec import KINDS, Probe, outside  # noqa: F401  (Probe: what [[probes]] become)
+from ..scene.names import UP
+from ..scene.parameters import (Range, courant_number, diffusion_delta, end_time, finite,
+                                gravity_component, integer, known_integrator, known_kernel, known_solver,
+                                memory_shortage, one_of, output_frames, positive, reference_density, smoothing_factor,
+                                speed_of_sound, tait_exponent, velocity_component, viscosity_alpha, xsph_epsilon)
+
 _MISSING = object()  # a key the file does not have
+WALL_KINDS = ("tank", "obstacle")  # a tank holds fluid (wall layers outside its box); an obstacle is solid
+
+# The allowed values of each key, declared once in taisph.scene.parameters (the cases' and the command
+# line's ranges for the same quantities): a value out of range is refused in the same words everywhere.
+RANGES = {
+    "dim": integer(at_least=2, at_most=3), "dx": positive, "t_end": end_time, "frames": output_frames,
+    "solver": known_solver, "kernel": known_kernel, "integrator": known_integrator, "h_factor": smoothing_factor,
+    "dt": positive, "courant": courant_number, "physics.gravity": gravity_component, "physics.alpha": viscosity_alpha,
+    "physics.delta": diffusion_delta, "physics.xsph": xsph_epsilon, "rho0": reference_density, "c0": speed_of_sound,
+    "gamma": tait_exponent, "velocity": velocity_component, "scale": positive, "model": one_of("dummy", "lj"),
+    "kind": one_of(*KINDS), "every": integer(at_least=1), "walls.kind": one_of(*WALL_KINDS),
+}
+# The values of the keys a file may leave out (gravity: (0, -9.81) or (0, -9.81, 0))
+DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1,
+            "physics.delta": 0.1, "physics.xsph": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor",
-            "dt", "courant", "domain", "physics", "materials", "fluid", "walls", "probes"}
-PHYSICS = {"gravity": None, "alpha": 0.1, "delta": 0.1, "xsph": 0.0}  # None: (0, -9.81(, 0))
+            "dt", "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes"}
+PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph"}
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic"}
-WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "open_top"}
+WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "kind", "open_top"}
 PROBE_KEYS = {"name", "kind", "at", "to", "walls", "every"}
 
 
-class SceneFileError(ValueError):
+class SceneFileError(InputError):
     """A mistake in a scene file: ``str(err)`` names the file, the key and the value."""
 
 
 @dataclass
 class Block:
-    """A ``[[fluid]]`` or ``[[walls]]`` entry: its shape (``box`` (lo, hi), or a
-    ClosedSurface from ``mesh``/``polygon``) and its settings."""
+    """A ``[[fluid]]`` or ``[[walls]]`` entry: its shape (``box`` (lo, hi), or a ClosedSurface) and settings."""
 
     key: str  # e.g. "fluid[0]", for messages
     shape: str = "box"  # which key gave the shape: box, mesh or polygon
@@ -63,7 +75,9 @@ class Block:
     hydrostatic: bool = True
     name: str = ""
     model: str = "dummy"
-    open_top: bool = True
+    kind: str = "tank"  # walls: "tank" or "obstacle" (WALL_KINDS)
+    kind_given: bool = False  # the file says which (else a tank must hold fluid)
+    open_top: bool = True  # a tank's
 
     @property
     def bounds(self):
@@ -72,7 +86,7 @@ class Block:
 
 @dataclass
 class SceneSpec:
-    """A checked scene file: everything :func:`taisph.scenefile_build.build` needs."""
+    """A checked scene file: everything :func:`taisph.formats.scenefile.build` needs."""
 
     path: Path
     name: str
@@ -96,37 +110,14 @@ class SceneSpec:
     walls: list
     probes: list
     domain: tuple | None = None  # None: around the geometry
+    remove_escaped: bool = True  # particles leaving the domain (not by an open top) removed, else the run stops
     wall_model: str | None = None  # the one model of all wall groups (None: no walls)
     multiphase: bool = False  # fluids of different rho0: the sharp-interface terms
 
 
-@dataclass
-class RunSettings:
-    """What a scene file asks of the run besides the scene: end time, frames, the
-    solver, the Courant number (None: the default), the probes, and the particles of
-    each wall group (``name -> slice`` of the scene's particle arrays, for force
-    probes)."""
-
-    t_end: float
-    frames: int
-    solver: str
-    courant: float | None = None
-    probes: list = field(default_factory=list)
-    wall_groups: dict = field(default_factory=dict)
-    source: Path | None = None
-
-
-def load(path, overrides: dict | None = None):
-    """``(scene, run_settings)`` from the scene file `path` (see :func:`read`)."""
-    from .scenefile_build import build
-
-    return build(read(path, overrides))
-
-
 def read(path, overrides: dict | None = None) -> SceneSpec:
-    """Parse and check the scene file `path`. `overrides` (``{"dx": 0.05,
-    "physics.alpha": 0.05}``) replace values of the file before the checks (the
-    command line's ``--dx``, ``--set``...). Raises :class:`SceneFileError`."""
+    """Parse and check the scene file `path`. `overrides` (``{"dx": 0.05, "physics.alpha": 0.05}``) replace
+    values of the file before the checks (``--dx``, ``--set``...). Raises :class:`SceneFileError`."""
     path = Path(path)
     if not path.is_file():
         raise SceneFileError(f"{path}: no such scene file")
@@ -146,12 +137,26 @@ def _override(path, data, key, value):
     if match and match[1]:
         table = data.setdefault(match[1], {} if match[2] is None else [])
         if match[2] is not None:
-            k = int(match[2])
-            table = table[k] if isinstance(table, list) and k < len(table) else None
+            table = table[int(match[2])] if isinstance(table, list) and int(match[2]) < len(table) else None
     if not match or not isinstance(table, dict):
         raise SceneFileError(f"{path}: {key} = {value!r} (set on the command line): no such table in the file; "
                              "set KEY, TABLE.KEY or LIST[INDEX].KEY (e.g. dx, physics.alpha, fluid[0].velocity)")
     table[match[3]] = value
+
+
+def wall_layers_needed(spec: SceneSpec) -> int:
+    """Layers of dummy-wall particles that fill the kernel support: ceil(support / dx)."""
+    support = smoothing.KERNELS[spec.kernel].support * spec.h_factor * spec.dx
+    return math.ceil(support / spec.dx - 1e-9)
+
+
+def default_domain(spec: SceneSpec):
+    """The box around all blocks, grown by the wall layers and dx, half the height again above (as the cases)."""
+    lo = np.min([b.bounds[0] for b in spec.fluid + spec.walls], axis=0)
+    hi = np.max([b.bounds[1] for b in spec.fluid + spec.walls], axis=0)
+    pad = (wall_layers_needed(spec) + 1) * spec.dx
+    top = np.eye(spec.dim)[UP] * 0.5 * (hi[UP] - lo[UP])
+    return lo - pad, hi + pad + top
 
 
 class _Checker:
@@ -171,32 +176,30 @@ class _Checker:
             if k not in allowed:
                 self.fail(f"{key}.{k}" if key else k, table[k], f"unknown key; known: {', '.join(sorted(allowed))}")
 
-    def number(self, key, value, positive=False, minimum=None, integer=False):
+    def number(self, key, value, rng: Range):
+        """`value` checked against `rng` (a range of taisph.scene.parameters)."""
         if value is _MISSING:
             self.fail(key, value, "required")
-        kind = int if integer else (int, float)
-        if isinstance(value, bool) or not isinstance(value, kind) or not math.isfinite(value):
-            self.fail(key, value, "expected " + ("an integer" if integer else "a number"))
-        if positive and value <= 0:
-            self.fail(key, value, "must be positive")
-        if minimum is not None and value < minimum:
-            self.fail(key, value, f"must be at least {minimum}")
-        return value if integer else float(value)
+        integral = getattr(rng, "integer", False)
+        if isinstance(value, bool) or not isinstance(value, int if integral else (int, float)):
+            self.fail(key, value, "expected " + ("an integer" if integral else "a number"))
+        if not rng.accepts(value):
+            self.fail(key, value, f"must be {rng.describe()}")
+        return value if integral else float(value)
 
-    def choice(self, key, value, choices, coming=None):
+    def choice(self, key, value, rng: Range):
+        """`value` checked against a one_of range."""
         if value is _MISSING:
-            self.fail(key, value, f"required; one of {', '.join(map(repr, choices))}")
-        if coming and value in coming:
-            self.fail(key, value, coming[value])
-        if value not in choices:
-            self.fail(key, value, f"expected one of {', '.join(map(repr, choices))}")
+            self.fail(key, value, f"required; {rng.describe()}")
+        if not rng.accepts(value):
+            self.fail(key, value, f"must be {rng.describe()}")
         return value
 
-    def vector(self, key, value, n):
+    def vector(self, key, value, n, rng: Range = finite):
         if not (isinstance(value, list) and len(value) == n):
             self.fail(key, value, f"expected a list of {n} numbers")
         for k, v in enumerate(value):
-            self.number(f"{key}[{k}]", v)
+            self.number(f"{key}[{k}]", v, rng)
         return tuple(float(v) for v in value)
 
     def box(self, key, value, dim):
@@ -206,12 +209,6 @@ class _Checker:
         if not all(a < b for a, b in zip(lo, hi)):
             self.fail(key, value, "lo must be below hi along every axis")
         return lo, hi
-
-    def courant(self, value):
-        value = self.number("courant", value, positive=True)
-        if value > 1:
-            self.fail("courant", value, "must be at most 1 (dt = courant h / max(c + |v|))")
-        return value
 
     def text(self, key, value):
         if value is _MISSING:
@@ -230,36 +227,25 @@ class _Checker:
     # --- the file -------------------------------------------------------------------
     def scene(self, data) -> SceneSpec:
         self.keys("", data, TOP_KEYS)
-        get = lambda k: data.get(k, _MISSING)  # noqa: E731
-        dim = self.number("dim", get("dim"), integer=True)
-        if dim not in (2, 3):
-            self.fail("dim", dim, "expected 2 or 3")
-        dx = self.number("dx", get("dx"), positive=True)
         physics = data.get("physics", {})
-        self.keys("physics", physics, set(PHYSICS))
+        self.keys("physics", physics, PHYSICS_KEYS)
+        numbers = {k: self.number(k, data.get(k, DEFAULTS.get(k, _MISSING)), RANGES[k])
+                   for k in ("dim", "dx", "t_end", "frames", "h_factor")}
+        dim = numbers["dim"]
         gravity = physics.get("gravity", [0.0, -9.81] + [0.0] * (dim - 2))
         spec = SceneSpec(
             path=self.path,
-            name=self.text("name", get("name")),
+            name=self.text("name", data.get("name", _MISSING)),
             description=self.text("description", data["description"]) if "description" in data else "",
-            dim=dim,
-            dx=dx,
-            t_end=self.number("t_end", get("t_end"), positive=True),
-            frames=self.number("frames", get("frames"), integer=True, minimum=1),
-            solver=self.choice("solver", get("solver"), SOLVERS, COMING),
-            kernel=self.choice("kernel", data.get("kernel", "spline"), KERNELS),
-            integrator=self.choice("integrator", data.get("integrator", "pc"), INTEGRATORS),
-            h_factor=self.number("h_factor", data.get("h_factor", 1.3), positive=True),
-            dt=self.number("dt", data["dt"], positive=True) if "dt" in data else None,
-            courant=self.courant(data["courant"]) if "courant" in data else None,
-            gravity=self.vector("physics.gravity", gravity, dim),
-            alpha=self.number("physics.alpha", physics.get("alpha", PHYSICS["alpha"]), minimum=0),
-            delta=self.number("physics.delta", physics.get("delta", PHYSICS["delta"]), minimum=0),
-            xsph=self.number("physics.xsph", physics.get("xsph", PHYSICS["xsph"]), minimum=0),
+            **numbers,
+            **{k: self.choice(k, data.get(k, DEFAULTS[k]), RANGES[k]) for k in ("solver", "kernel", "integrator")},
+            **{k: self.number(k, data[k], RANGES[k]) if k in data else None for k in ("dt", "courant")},
+            remove_escaped=self.flag("remove_escaped", data.get("remove_escaped", _MISSING), True),
+            gravity=self.vector("physics.gravity", gravity, dim, RANGES["physics.gravity"]),
+            **{k: self.number(f"physics.{k}", physics.get(k, DEFAULTS[f"physics.{k}"]), RANGES[f"physics.{k}"])
+               for k in ("alpha", "delta", "xsph")},
             materials=self.materials(data.get("materials", [{"name": "water"}])),
-            fluid=[],
-            walls=[],
-            probes=[],
+            fluid=[], walls=[], probes=[],
         )
         names = [m["name"] for m in spec.materials]
         spec.fluid = [self.block(f"fluid[{k}]", b, spec, names, FLUID_KEYS) for k, b in enumerate(self.entries("fluid", data))]
@@ -275,6 +261,7 @@ class _Checker:
                 self.fail(f"walls[{k}].model", w.model, f"all wall groups need one model (walls[0] is "
                           f"{spec.walls[0].model!r}): the wall terms act on every wall particle")
         spec.wall_model = spec.walls[0].model if spec.walls else None
+        self.memory(spec)
         used = sorted({b.material for b in spec.fluid})
         spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1
         if spec.multiphase and spec.wall_model == "dummy":
@@ -283,8 +270,6 @@ class _Checker:
                       "(Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
         if "domain" in data:
             spec.domain = self.box("domain", data["domain"], dim)
-        from .scenefile_build import default_domain
-
         lo, hi = spec.domain or default_domain(spec)
         spec.probes = self.probes(self.entries("probes", data), spec, lo, hi)
         return spec
@@ -305,11 +290,24 @@ class _Checker:
             name = self.text(f"{key}.name", m.get("name", _MISSING))
             if name in [o["name"] for o in out]:
                 self.fail(f"{key}.name", name, "already the name of another material")
-            c0 = m.get("c0")
-            out.append({"name": name, "rho0": self.number(f"{key}.rho0", m.get("rho0", 1000.0), positive=True),
-                        "c0": None if c0 is None else self.number(f"{key}.c0", c0, positive=True),
-                        "gamma": self.number(f"{key}.gamma", m.get("gamma", 7.0), positive=True)})
+            constant = lambda k: self.number(f"{key}.{k}", m.get(k, DEFAULTS.get(k)), RANGES[k])  # noqa: E731
+            out.append({"name": name, "rho0": constant("rho0"), "c0": None if m.get("c0") is None else constant("c0"),
+                        "gamma": constant("gamma")})
         return out
+
+    def memory(self, spec):
+        """Refuse blocks whose particles would need more memory than the machine has (as the cases do,
+        :func:`taisph.scene.parameters.lattice_count`), before any is made: a block holds a lattice of its
+        bounds (walls: dx/2 apart for Lennard-Jones walls, grown by their layers for dummy walls)."""
+        layers = wall_layers_needed(spec) * spec.dx
+        filled = [(b, spec.dx, 0.0) for b in spec.fluid] + [
+            (b, spec.dx / 2.0, 0.0) if b.model == "lj" else (b, spec.dx, 2.0 * layers) for b in spec.walls]
+        count = sum(math.prod(float(hi - lo + pad) / spacing + 1.0 for lo, hi in zip(*b.bounds))
+                    for b, spacing, pad in filled)
+        problem = memory_shortage(count)
+        if problem:
+            shapes = ", ".join(f"{b.key}.{b.shape}" for b, _, _ in filled)
+            self.fail("dx", spec.dx, f"fills {shapes} with {count:.3g} particles, {problem}")
 
     def block(self, key, entry, spec, material_names, allowed) -> Block:
         self.keys(key, entry, allowed)
@@ -320,6 +318,8 @@ class _Checker:
         shape = shapes[0]
         block = Block(key, shape, entry[shape] if shape != "polygon" else "[...]")
         if shape == "box":
+            for k in sorted({"scale", "translate"} & set(entry)):
+                self.fail(f"{key}.{k}", entry[k], "applies to a mesh or polygon, not a box")
             block.box = self.box(f"{key}.box", entry["box"], spec.dim)
         else:
             block.surface = self.surface(key, shape, entry, spec.dim)
@@ -329,20 +329,21 @@ class _Checker:
                 self.fail(f"{key}.material", name, f"no such material; defined: {', '.join(material_names)}")
             block.material = material_names.index(name)
         if "velocity" in entry:
-            block.velocity = self.vector(f"{key}.velocity", entry["velocity"], spec.dim)
+            block.velocity = self.vector(f"{key}.velocity", entry["velocity"], spec.dim, RANGES["velocity"])
         block.hydrostatic = self.flag(f"{key}.hydrostatic", entry.get("hydrostatic", _MISSING), True)
         block.name = self.text(f"{key}.name", entry["name"]) if "name" in entry else key
-        block.model = self.choice(f"{key}.model", entry.get("model", "dummy"), WALL_MODELS)
-        block.open_top = self.flag(f"{key}.open_top", entry.get("open_top", _MISSING), True)
-        if "open_top" in entry and shape != "box":
-            self.fail(f"{key}.open_top", entry["open_top"], "only a box (a tank) has a top to leave open")
+        block.model = self.choice(f"{key}.model", entry.get("model", DEFAULTS["model"]), RANGES["model"])
+        kind = entry.get("kind", "tank" if shape == "box" else "obstacle")
+        block.kind, block.kind_given = self.choice(f"{key}.kind", kind, RANGES["walls.kind"]), "kind" in entry
+        if block.kind == "tank" and shape != "box":
+            self.fail(f"{key}.kind", kind, "a tank is a box; a mesh or polygon wall is a solid obstacle")
+        block.open_top = self.flag(f"{key}.open_top", entry.get("open_top", _MISSING), block.kind == "tank")
+        if block.open_top and block.kind == "obstacle":
+            self.fail(f"{key}.open_top", True, "an obstacle is solid; a box open at the top is a tank")
         return block
 
     def surface(self, key, shape, entry, dim):
-        for k in ("scale", "translate"):
-            if k in entry and shape == "box":
-                self.fail(f"{key}.{k}", entry[k], "applies to a mesh or polygon, not a box")
-        scale = self.number(f"{key}.scale", entry.get("scale", 1.0), positive=True)
+        scale = self.number(f"{key}.scale", entry.get("scale", 1.0), RANGES["scale"])
         translate = self.vector(f"{key}.translate", entry["translate"], dim) if "translate" in entry else None
         value = entry[shape]
         if shape == "polygon":
@@ -356,8 +357,6 @@ class _Checker:
             self.text(f"{key}.mesh", value)
             source = name = self.path.parent / value  # relative to the scene file
         try:
-            import numpy as np
-
             surface = load_surface(np.asarray(source, float) if shape == "polygon" else source, dim=dim, name=str(name))
         except MeshError as err:  # "NAME: problem"; a polygon's name would repeat the key
             self.fail(f"{key}.{shape}", value if shape == "mesh" else "[...]",
@@ -374,8 +373,8 @@ class _Checker:
             if name in names:
                 self.fail(f"{key}.name", name, f"already the name of probes[{names[name]}]")
             names[name] = k
-            kind = self.choice(f"{key}.kind", p.get("kind", _MISSING), PROBE_KINDS)
-            probe = Probe(name, kind, every=self.number(f"{key}.every", p.get("every", 1), integer=True, minimum=1))
+            kind = self.choice(f"{key}.kind", p.get("kind", _MISSING), RANGES["kind"])
+            probe = Probe(name, kind, every=self.number(f"{key}.every", p.get("every", DEFAULTS["every"]), RANGES["every"]))
             needs = {"pressure": "at", "elevation": "at", "force": "walls"}[kind]
             for extra in sorted({"at", "to", "walls"} - {needs} - ({"to"} if kind == "pressure" else set())):
                 if extra in p:
@@ -389,12 +388,9 @@ class _Checker:
             else:
                 axes = list(range(spec.dim)) if kind == "pressure" else [a for a in range(spec.dim) if a != UP]
                 for point in ("at", "to") if "to" in p else ("at",):
-                    value = self.vector(f"{key}.{point}", p.get(point, _MISSING), len(axes))
-                    for a, v in zip(axes, value):
-                        if not lo[a] <= v <= hi[a]:
-                            self.fail(f"{key}.{point}", p[point], f"{'xyz'[a]} = {v:g} is outside the domain "
-                                      f"({lo[a]:g} .. {hi[a]:g})")
-                    setattr(probe, point, value)
+                    setattr(probe, point, self.vector(f"{key}.{point}", p.get(point, _MISSING), len(axes)))
+                if (bad := outside(probe, (lo, hi))) is not None:  # the one rule of every probe
+                    self.fail(f"{key}.{bad[0]}", p[bad[0]], bad[1])
             out.append(probe)
         return out
 

@@ -142,5 +142,15 @@ def wall_layers(lo, hi, dx, layers, vertical_axis=None, open_top=True, periodic=
     inside = np.all((pts > lo) & (pts < hi), axis=1)
     return pts[~inside]
 
-# closed surfaces read from mesh files (STL, OBJ, VTK, ... or a 2D polygon): taisph/mesh_fill.py
-from .mesh_fill import surface_points, volume_points  # noqa: E402,F401
+
+def solid_layers(lo, hi, dx, layers) -> np.ndarray:
+    """Wall particles for a solid box obstacle with dummy-particle walls: the lattice
+    points (cell centres, spacing dx) of the box [lo, hi] within `layers` cells of its
+    faces. The outer layer sits dx/2 inside each face, the next ones dx apart inward,
+    so fluid outside the box (on the same lattice) meets the wall without a gap, as
+    :func:`wall_layers` around a tank; a box at most 2 `layers` cells thick is filled."""
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    pts = lattice(lo, hi, dx)
+    core = np.all((pts > lo + layers * dx) & (pts < hi - layers * dx), axis=1)
+    return pts[~core]

@@ -11,18 +11,20 @@ return scenes, and scripts may edit them before simulating::
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .engine import dfsph, integrators, smoothing
-from .engine.layout import FLUID, KINDS, WALL
-from .eos import Tait
-from .terms.base import Term
-
-
-SOLVERS = ("wcsph", "dfsph")
+from ..engine import smoothing
+from ..engine.layout import FLUID, KINDS, WALL
+from ..eos import Tait
+from ..messages import InputError
+from ..terms.base import Term
+from .names import INTEGRATORS, KERNELS, SOLVERS
+from .solvers import check_dfsph, dfsph_kept_terms
 
 
 @dataclass
@@ -37,18 +39,41 @@ class Material:
     _positive = ("rho0", "c0", "gamma")  # constants check() requires (not a dataclass field)
 
     def set(self, **values):
-        """Change constants by name (``rho0``, ``c0``, ``gamma``), checked."""
-        for key, value in values.items():
-            if not hasattr(self, key) or key == "name":
+        """Change constants by name (``rho0``, ``c0``, ``gamma``), checked before any
+        is changed: a refused value (KeyError for an unknown name, :class:`InputError`
+        for a bad value) leaves the material as it was."""
+        for key in values:
+            if key not in CONSTANTS:
                 raise KeyError(f"materials have no constant {key!r} (rho0, c0, gamma)")
-            setattr(self, key, float(value))
-        self.check()
+        trial = dataclasses.replace(self, **{key: _number(key, value) for key, value in values.items()})
+        trial.check()
+        for key in values:
+            setattr(self, key, getattr(trial, key))
 
     def check(self):
+        """:class:`InputError` naming the first constant out of its range."""
         for key in self._positive:
             v = getattr(self, key)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"material {self.name!r}: {key} must be a positive number, got {v!r}")
+                raise InputError(f"material {self.name!r}: {key} must be a positive number, got {v!r}")
+
+
+CONSTANTS = ("rho0", "c0", "gamma")  # a material's constants, by name (Material.set, Scene.set)
+
+
+def _copy_term(term: Term) -> Term:
+    """A copy of `term` with its own values (what :meth:`Scene.set` changes)."""
+    twin = copy.copy(term)
+    twin.values = dict(term.values)
+    return twin
+
+
+def _number(key: str, value) -> float:
+    """`value` as a float (:class:`InputError` naming `key` if it is none)."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{key} must be a number, got {value!r}") from None
 
 
 @dataclass
@@ -66,7 +91,7 @@ class Gas(Material):
     def check(self):
         super().check()
         if self.gamma <= 1.0:
-            raise ValueError(f"gas {self.name!r}: gamma must be > 1, got {self.gamma!r}")
+            raise InputError(f"gas {self.name!r}: gamma must be > 1, got {self.gamma!r}")
 
 
 @dataclass
@@ -126,7 +151,7 @@ class Scene:
 
     def __post_init__(self):
         if self.dim not in (1, 2, 3):
-            raise ValueError(f"dim must be 1, 2 or 3, got {self.dim!r}")
+            raise InputError(f"dim must be 1, 2 or 3, got {self.dim!r}")
         d = self.dim
         self.position = np.zeros((0, d)) if self.position is None else np.asarray(self.position, float).reshape(-1, d)
         n = len(self.position)
@@ -207,23 +232,40 @@ class Scene:
     def set(self, **values):
         """Change parameters by name: ``smoothing_length``, any term's parameter (e.g.
         ``alpha``, ``gravity``), or a material constant (``rho0``, ``c0``, ``gamma``: of
-        every material). Raises KeyError naming the unknown one, ValueError (from
-        :meth:`validate`) for a bad value."""
+        every material). Raises KeyError naming the unknown one, :class:`InputError` (a
+        ValueError, from :meth:`validate`) for a bad value. All the values are checked
+        together, on a copy, before any is written: a refused call leaves the scene as
+        it was."""
         by_param = {k: t for t in self.terms for k in t.params}
-        material_keys = {"rho0", "c0", "gamma"}
         for key in values:
-            if key not in by_param and key not in material_keys and key != "smoothing_length":
-                names = sorted(set(self.parameters()) | material_keys)
+            if key not in by_param and key not in CONSTANTS and key != "smoothing_length":
+                names = sorted(set(self.parameters()) | set(CONSTANTS))
                 raise KeyError(f"no parameter {key!r}; parameters: {', '.join(names)}")
+        values = {key: _number(key, v) if key in CONSTANTS or key == "smoothing_length" else v
+                  for key, v in values.items()}
+        self._with(values).validate()  # the scene as it would be; raises before anything is written
+        self._write(self, values)
+
+    def _with(self, values: dict) -> "Scene":
+        """A copy of the scene with `values` (checked names) set: its own materials and
+        its own copies of the terms whose values change; particles shared."""
+        trial = copy.copy(self)
+        trial.materials = [copy.copy(m) for m in self.materials]
+        trial.terms = [_copy_term(t) if set(t.params) & set(values) else t for t in self.terms]
+        self._write(trial, values)
+        return trial
+
+    @staticmethod
+    def _write(scene: "Scene", values: dict) -> None:
+        by_param = {k: t for t in scene.terms for k in t.params}
         for key, value in values.items():
             if key == "smoothing_length":
-                self.smoothing_length = float(value)
-            elif key in material_keys:
-                for m in self.materials:
-                    setattr(m, key, float(value))
+                scene.smoothing_length = value
+            elif key in CONSTANTS:
+                for m in scene.materials:
+                    setattr(m, key, value)
             else:
                 by_param[key].values[key] = value
-        self.validate()
 
     def smallest_smoothing_length(self) -> float:
         """The scene's h, or if a term varies it (``initial(scene)``, e.g. adaptive_h)
@@ -236,12 +278,13 @@ class Scene:
 
     # --- checking -----------------------------------------------------------------
     def validate(self) -> None:
-        """Raise ValueError naming the first problem found."""
+        """Raise :class:`InputError` (a ValueError) naming the first problem found (the
+        scene's own checks, each term's ``check``, the equation of state's, DFSPH's)."""
         d, n = self.dim, self.n
         if n == 0:
-            raise ValueError(f"scene {self.name!r} has no particles")
+            raise InputError(f"scene {self.name!r} has no particles")
         if not (0.0 <= self.neighbour_skin <= 2.0):
-            raise ValueError(f"scene {self.name!r}: neighbour_skin is {self.neighbour_skin!r}; it is a fraction "
+            raise InputError(f"scene {self.name!r}: neighbour_skin is {self.neighbour_skin!r}; it is a fraction "
                              "of the support radius, from 0 (no lists) to 2")
         for name, arr, shape in (
             ("position", self.position, (n, d)),
@@ -252,71 +295,71 @@ class Scene:
             ("material", self.material, (n,)),
         ):
             if arr.shape != shape:
-                raise ValueError(f"scene {self.name!r}: {name} has shape {arr.shape}, expected {shape}")
+                raise InputError(f"scene {self.name!r}: {name} has shape {arr.shape}, expected {shape}")
             if arr.dtype.kind == "f":
                 bad = np.flatnonzero(~np.all(np.isfinite(arr.reshape(n, -1)), axis=1))
                 if bad.size:
-                    raise ValueError(f"scene {self.name!r}: {name} of particle {bad[0]} is not finite: {arr[bad[0]]}")
+                    raise InputError(f"scene {self.name!r}: {name} of particle {bad[0]} is not finite: {arr[bad[0]]}")
         for name, arr in (("mass", self.mass), ("density", self.density)):
             bad = np.flatnonzero(arr <= 0)
             if bad.size:
-                raise ValueError(f"scene {self.name!r}: {name} of particle {bad[0]} is {arr[bad[0]]}; it must be > 0")
+                raise InputError(f"scene {self.name!r}: {name} of particle {bad[0]} is {arr[bad[0]]}; it must be > 0")
         bad = np.flatnonzero((self.material < 0) | (self.material >= len(self.materials)))
         if bad.size:
-            raise ValueError(
+            raise InputError(
                 f"scene {self.name!r}: particle {bad[0]} has material {self.material[bad[0]]}, "
                 f"but only {len(self.materials)} material(s) are defined"
             )
         bad = np.flatnonzero(~np.isin(self.kind, list(KINDS.values())))
         if bad.size:
-            raise ValueError(f"scene {self.name!r}: particle {bad[0]} has unknown kind {self.kind[bad[0]]}")
+            raise InputError(f"scene {self.name!r}: particle {bad[0]} has unknown kind {self.kind[bad[0]]}")
         for m in self.materials:
             m.check()
         if hasattr(self.eos, "check"):
             self.eos.check(self)
-        if self.kernel not in smoothing.KERNELS:
-            raise ValueError(f"unknown kernel {self.kernel!r}; choose one of {', '.join(smoothing.KERNELS)}")
+        if self.kernel not in KERNELS:
+            raise InputError(f"unknown kernel {self.kernel!r}; choose one of {', '.join(KERNELS)}")
         if self.solver not in SOLVERS:
-            raise ValueError(f"scene {self.name!r}: unknown solver {self.solver!r}; choose one of {', '.join(SOLVERS)}")
-        if self.integrator not in integrators.INTEGRATORS:
-            raise ValueError(f"unknown integrator {self.integrator!r}; choose one of {', '.join(integrators.INTEGRATORS)}")
+            raise InputError(f"scene {self.name!r}: unknown solver {self.solver!r}; choose one of {', '.join(SOLVERS)}")
+        if self.integrator not in INTEGRATORS:
+            raise InputError(f"unknown integrator {self.integrator!r}; choose one of {', '.join(INTEGRATORS)}")
         for key in ("dx", "smoothing_length", "t_end"):
             v = getattr(self, key)
             if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"scene {self.name!r}: {key} must be positive, got {v!r}")
+                raise InputError(f"scene {self.name!r}: {key} must be positive, got {v!r}")
         if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"scene {self.name!r}: dt must be positive, got {self.dt!r}")
+            raise InputError(f"scene {self.name!r}: dt must be positive, got {self.dt!r}")
         if self.courant is not None and not (math.isfinite(self.courant) and 0 < self.courant <= 1):
-            raise ValueError(f"scene {self.name!r}: courant must be in (0, 1], got {self.courant!r}")
+            raise InputError(f"scene {self.name!r}: courant must be in (0, 1], got {self.courant!r}")
         lo, hi = self.domain
         if np.any(hi <= lo):
-            raise ValueError(f"scene {self.name!r}: domain {lo} .. {hi} is empty")
+            raise InputError(f"scene {self.name!r}: domain {lo} .. {hi} is empty")
         if len(self.periodic) != d:
-            raise ValueError(f"scene {self.name!r}: periodic needs {d} flags, got {self.periodic}")
+            raise InputError(f"scene {self.name!r}: periodic needs {d} flags, got {self.periodic}")
         faces = [s + a for a in "xyz"[:d] for s in "-+"]
         for face in self.open_faces:
             if face not in faces:
-                raise ValueError(f"scene {self.name!r}: open face {face!r} is not one of {', '.join(faces)}")
+                raise InputError(f"scene {self.name!r}: open face {face!r} is not one of {', '.join(faces)}")
         for name, values in self.quantities.items():
             values = np.asarray(values, float)
             if len(values) != n or not np.all(np.isfinite(values)):
-                raise ValueError(f"scene {self.name!r}: quantity {name!r} needs {n} finite values")
+                raise InputError(f"scene {self.name!r}: quantity {name!r} needs {n} finite values")
         names = set()
         for t in self.terms:
             if not isinstance(t, Term):
                 raise TypeError(f"scene {self.name!r}: {t!r} is not a taisph term")
             if t.name in names:
-                raise ValueError(f"scene {self.name!r}: term {t.name!r} listed twice")
+                raise InputError(f"scene {self.name!r}: term {t.name!r} listed twice")
             names.add(t.name)
             t.check(self)
             t.param_values(self.dim)
         if self.solver == "dfsph":
-            dfsph.check(self)
+            check_dfsph(self)
 
     def describe(self) -> str:
         if self.solver == "dfsph":
             numerics = "solver dfsph (incompressible: pressure solve, symplectic Euler)"
-            kept = dfsph.kept_terms(self)
+            kept = dfsph_kept_terms(self)
             replaced = [t.name for t in self.terms if t not in kept]
             effects = ", ".join(["DFSPH pressure" + (f" (in place of {', '.join(replaced)})" if replaced else "")]
                                 + [t.describe() for t in kept])

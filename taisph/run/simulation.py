@@ -6,24 +6,37 @@ from __future__ import annotations
 import math
 import time as _time
 import warnings
-from dataclasses import fields
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
 import taichi as ti
 
-from .engine import assembly, runtime, timestep
-from .engine import status as st
-from .engine.layout import FLUID, WALL
-from .engine.diagnosis import SimulationError  # noqa: F401 (taisph.simulation.SimulationError)
-from .engine.state import State
-from .engine.timestep import Controls
-from .io.progress import Progress, RunSummary
+from ..engine import assembly, runtime, timestep
+from ..engine import status as st
+from ..engine.layout import FLUID, WALL
+from ..engine.diagnosis import SimulationError  # noqa: F401 (taisph.run.simulation.SimulationError)
+from ..engine.state import State
+from ..engine.timestep import Controls
+from . import checkpoint
+from .checkpoint import CheckpointWriter
+from ..messages import TaisphRuntimeWarning
+from .progress import Progress, RunSummary
 
 # Below this many particles the sort pass runs serially: waking the thread pool
 # costs more than the work (measured, see docs/performance.md), and a serial
 # scatter keeps each cell's particles in a reproducible order.
 SERIAL_SORT_BELOW = 60_000
+
+
+@dataclass
+class Restore:
+    """What :meth:`Simulation.from_checkpoint` resumes: the state's arrays
+    (:meth:`taisph.engine.state.State.arrays`), their grid and whether the sort was serial."""
+
+    arrays: dict
+    grid: tuple  # taisph.engine.neighbours.GridLayout (lo, cell, shape)
+    serial_sort: bool
 
 
 class Simulation:
@@ -43,7 +56,7 @@ class Simulation:
     :meth:`close` (or dropping the last reference) frees the arrays.
     """
 
-    def __init__(self, scene, arch=None, precision=None, threads=None, _restore=None, **controls):
+    def __init__(self, scene, arch=None, precision=None, threads=None, _restore: Restore | None = None, **controls):
         scene.validate()
         self.scene = scene
         self.runtime = runtime.init(arch, precision, threads)
@@ -59,13 +72,12 @@ class Simulation:
         self._warned_dt = False
         self._snapshot_key = None
         self.time, self.steps, self._dt_last, self._dt_stable = 0.0, 0, 0.0, math.inf
-        grid = _restore[1] if _restore is not None else None
-        self.state = State(scene, self.solver, self.runtime, grid)
+        self.state = State(scene, self.solver, self.runtime, _restore.grid if _restore is not None else None)
         runtime.register(self)
         if _restore is not None:
-            arrays, grid, self.serial_sort = _restore
-            self._setup_grid(grid)
-            self.state.restore(arrays)
+            self.serial_sort = _restore.serial_sort
+            self._setup_grid(_restore.grid)
+            self.state.restore(_restore.arrays)
         else:
             self.state.upload_particles(scene)
             self._setup_grid(self.state.grid)
@@ -104,12 +116,12 @@ class Simulation:
         scene's (:meth:`taisph.Scene.set`) and the :class:`Controls` fields (``dt``,
         ``max_density_error``...). No kernel is recompiled."""
         control_keys = {f.name for f in fields(Controls)} - {"deterministic"}
-        for key in control_keys & set(values):
-            setattr(self.controls, key, values.pop(key))
+        controls = {key: values.pop(key) for key in control_keys & set(values)}
         try:
-            self.scene.set(**values)
+            self.scene.set(**values)  # checked before anything is written: a refusal changes nothing
         except KeyError as err:
             raise KeyError(f"{err.args[0]}; or a control: {', '.join(sorted(control_keys))}") from None
+        vars(self.controls).update(controls)
         if "smoothing_length" in values:
             self._setup_grid()
         self._upload_parameters()
@@ -128,10 +140,8 @@ class Simulation:
     def _read_status(self):
         """Refresh the host's copy of time, step count, dt and guard flags."""
         read = self.state.read
-        self.time = read(st.TIME)
-        self.steps = int(read(st.STEPS))
-        self._dt_last = read(st.DT)
-        self._dt_stable = read(st.DT_STABLE)
+        self.time, self.steps, self._dt_last, self._dt_stable = (read(st.TIME), int(read(st.STEPS)), read(st.DT),
+                                                                 read(st.DT_STABLE))
         self._fail_codes = self.state.read_flag(st.CODES)
 
     @property
@@ -148,8 +158,7 @@ class Simulation:
     def _advance(self, t_target: float, max_steps: int | None = None, progress=None, steps0: int = 0) -> None:
         """Step until the clock reaches `t_target` (or `max_steps` steps are done),
         checking the guards every batch of steps."""
-        done = 0
-        batch = 1
+        done, batch = 0, 1
         while True:
             remaining = t_target - self.time
             if max_steps is not None and done >= max_steps:
@@ -177,9 +186,8 @@ class Simulation:
             self._warn_if_dt_unstable()
             if progress is not None:
                 progress.update(self.time, self.steps - steps0)
-            # batches of ~0.2 s between checks, at most 128 steps: each batch starts
-            # with a device copy of the state (the last good state for a diagnosis),
-            # which cost ~7 % of the run time at 50 ms batches (20k particles)
+            # batches of ~0.2 s between checks, at most 128 steps: each starts with a device
+            # copy of the state (the last good one, for a diagnosis; docs/performance.md)
             elapsed = _time.perf_counter() - start
             batch = max(1, min(128, int(n * 0.2 / max(elapsed, 1e-6))))
 
@@ -203,41 +211,39 @@ class Simulation:
                 f"fixed dt = {self.controls.dt:.3g} s is above the stability limit {limit:.3g} s "
                 f"(CFL {self.controls.courant} h/(c+|v|), force {self.controls.force_factor} sqrt(h/|a|)); "
                 "expect a blow-up, or leave dt unset for the adaptive step",
-                RuntimeWarning,
-                stacklevel=3,
+                TaisphRuntimeWarning, stacklevel=3,
             )
 
     def run(self, t_end=None, frames=None, out=None, progress=False, callback=None,
             checkpoint_every: int | None = None, writers=(), _writer_state=None) -> RunSummary:
         """Advance to `t_end` (default: the scene's), writing `frames` VTK frames (plus
-        the initial one, when starting from t = 0) to the folder `out`.
+        the initial one, when starting from t = 0; 0: that one only) to the folder `out`.
 
         Steps are shortened where needed so that frames land exactly on
         ``t0 + (t_end - t0) k / frames``. At every such output time the run's writers
         are called: the ParaView frames (if `out`), `callback(sim)`, a checkpoint to
         ``out/checkpoint`` every `checkpoint_every` frames
-        (:func:`taisph.io.checkpoint.save`), and any further `writers` (objects with
+        (:func:`taisph.run.checkpoint.save`), and any further `writers` (objects with
         ``on_start(sim)`` and ``on_frame(sim, k)``; one with an ``every`` attribute also
         gets ``on_steps(sim)`` after every `every` steps, e.g. probes, which read the
         clock with :meth:`device_time`). A tripped guard raises
         :class:`SimulationError` after writing the last good state and the offending
         particles to `out`.
         """
-        from .io.checkpoint import CheckpointWriter
-        from .io.vtk import VTKWriter
+        from .vtk import VTKWriter
 
         t_end = self.scene.t_end if t_end is None else float(t_end)
         frames = self.scene.frames if frames is None else int(frames)
-        if frames < 1:
-            raise ValueError("frames must be at least 1")
-        t0 = self.time
-        frame_times = [t0 + (t_end - t0) * (k + 1) / frames for k in range(frames)]
+        if frames < 0:
+            raise ValueError(f"frames must be at least 0, got {frames}")
+        t0 = self.time  # frames = 0: t_end is the one output time (writers called), no frame written there
+        frame_times = [t0 + (t_end - t0) * (k + 1) / frames for k in range(frames)] or [t_end]
         self._out = Path(out) if out is not None else None
-        frame_writer = VTKWriter(out, self, resume=_writer_state) if out is not None else None
+        frame_writer = VTKWriter(out, self, resume=_writer_state, initial_only=frames == 0) if out is not None else None
         run_writers = [w for w in (frame_writer,) if w is not None]
         if checkpoint_every and out is not None:
             run_writers.append(CheckpointWriter(Path(out) / "checkpoint", checkpoint_every, t_end, frames,
-                                                frame_writer))
+                                                frame_writer, *checkpoint.probes_of(writers)))
         run_writers += list(writers)
         self._step_writers = [w for w in run_writers if callable(getattr(w, "on_steps", None))]
         frames0 = frame_writer.frame if frame_writer else 0
@@ -267,13 +273,12 @@ class Simulation:
                           str(frame_writer.folder) if frame_writer else None, dt_min, dt_mean, dt_max,
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
-                          fluid_mass, removed_mass,
-                          self.pressure_solve.stats.summary() if self.solver.dfsph else None,
-                          self.state.read_flag(st.OUT_OF_RANGE_COUNT))
+                          fluid_mass, removed_mass, self.pressure_solve.stats.summary() if self.solver.dfsph else None,
+                          self.state.read_flag(st.OUT_OF_RANGE_COUNT), frame_writer.removed if frame_writer else 0)
 
     @property
     def pressure_solve(self):
-        """DFSPH's stepper (:class:`taisph.engine.dfsph.Stepper`): its ``stats`` hold the
+        """DFSPH's stepper (:class:`taisph.engine.dfsph.solver.Stepper`): its ``stats`` hold the
         iterations and errors of the solves; None for WCSPH."""
         if not self.solver.dfsph:
             return None
@@ -286,23 +291,26 @@ class Simulation:
 
     # --- guards and checkpoints ---------------------------------------------------------
     def _fail(self):
-        from .engine import diagnosis
+        from ..engine import diagnosis
 
         diagnosis.fail(self, getattr(self, "_out", None))
 
-    def save_checkpoint(self, folder, t_end=None, frames_left=None, writer=None) -> Path:
-        """Write the complete state to `folder`, atomically (:mod:`taisph.io.checkpoint`);
-        :meth:`from_checkpoint` resumes it."""
-        from .io import checkpoint
-
-        return checkpoint.save(self, folder, t_end, frames_left, writer)
+    def save_checkpoint(self, folder, t_end=None, frames_left=None, writer=None, **run) -> Path:
+        """Write the complete state to `folder`, atomically (:mod:`taisph.run.checkpoint`;
+        `run`: ``checkpoint_every``, ``probes``, ``wall_groups``); :meth:`from_checkpoint` resumes it."""
+        return checkpoint.save(self, folder, t_end, frames_left, writer, **run)
 
     @classmethod
     def from_checkpoint(cls, folder, arch=None, threads=None) -> "Simulation":
-        """A simulation continuing exactly where :meth:`save_checkpoint` stopped."""
-        from .io import checkpoint
-
-        return checkpoint.load(folder, arch, threads)
+        """A simulation continuing exactly where :meth:`save_checkpoint` stopped; its
+        ``checkpoint_meta`` holds where the run was going (:func:`taisph.run.checkpoint.read`).
+        A folder of another checkpoint version raises :class:`taisph.run.checkpoint.CheckpointError`."""
+        meta, arrays = checkpoint.read(folder)
+        restore = Restore(arrays=arrays, grid=meta["grid"], serial_sort=meta["serial_sort"])
+        sim = cls(meta["scene"], arch=arch or meta["runtime"][0], precision=meta["runtime"][1], threads=threads,
+                  _restore=restore, **meta["controls"])
+        sim.checkpoint_meta = meta
+        return sim
 
     # --- state as numpy, in particle-id order ------------------------------------
     def _arrays(self):
@@ -371,18 +379,8 @@ class Simulation:
         return int(self.state.read(st.REBUILDS))
 
     def bytes_per_particle(self) -> int:
-        """Memory of the particle state per particle: the stored rows, three times
-        (current and cell-sorted buffers, the saved good state), the cell index, and
-        with neighbour lists their reference position, count and entries."""
-        L = self.solver.layout
-        real = 4 if self.runtime.precision == "f32" else 8
-        row = self.dim * real * len(L.vectors) + real * len(L.scalars) + 4 * len(L.integers)
-        lists = self.dim * real + 4 + 4 * self.state.list_capacity if self.solver.lists else 0
-        if self.solver.dfsph:  # DFSPH's pair list (taisph.engine.pairs)
-            from .engine import pairs
-
-            lists = pairs.bytes_per_particle(self.state.list_capacity, real)
-        return 3 * row + 4 + lists
+        """Memory of the particle state per particle (:meth:`taisph.engine.state.State.bytes_per_particle`)."""
+        return self.state.bytes_per_particle()
 
     def effects(self) -> list:
         """Names of the terms compiled into this simulation's kernels."""

@@ -72,6 +72,7 @@ class RunSummary:
     removed_mass: float = 0.0  # of the particles removed so far
     pressure_solve: dict | None = None  # DFSPH: iterations per step and errors (dfsph.Stats.summary)
     out_of_range: int = 0  # of `removed`: density out of the guard's range (taisph.engine.guards)
+    replaced_frames: int = 0  # frames of an earlier series in `out` removed when this run began (run/vtk.py)
 
     @property
     def particle_steps_per_second(self) -> float:
@@ -80,6 +81,8 @@ class RunSummary:
 
     def __str__(self) -> str:
         out = f", output in {self.out}" if self.out else ""
+        if self.out and self.replaced_frames:
+            out += f" (replaces an earlier run's series there: {self.replaced_frames} old frames removed)"
         removed = ""
         if self.list_rebuilds is not None:
             removed = f", neighbour lists rebuilt {self.list_rebuilds} times"

@@ -1,11 +1,11 @@
 """DFSPH's neighbour visitors: what one neighbour j contributes to particle i's sums
-(:mod:`.dfsph` has the method and its equations, :mod:`.dfsph_kernels` the kernels that
+(:mod:`.solver` has the method and its equations, :mod:`.kernels` the kernels that
 walk the neighbours and call these)."""
 
 import taichi as ti
 
-from . import kernels
-from .layout import FLUID, WALL
+from .. import kernels
+from ..layout import FLUID, WALL
 
 
 @ti.data_oriented
@@ -65,26 +65,26 @@ class WallGather:
 @ti.data_oriented
 class NonPressure:
     """Step 3's visitor of the pair list: the scene's pair terms (as the weakly
-    compressible force pass sums them) and the walls' hydrostatic head."""
+    compressible force pass sums them) and the walls' hydrostatic head (with gravity:
+    it makes a hydrostatic field an equilibrium at a flat wall; docs/dfsph.md, "Walls")."""
 
     def __init__(self, solver):
         self.q = solver.layout.q
         self.terms = [t for t in solver.terms if t.has_pair]
         self.p_gravity = solver.param_rows.get("gravity")
         self.head = self.p_gravity is not None
-        self.p_head = solver.param_rows["dfsph_wall_head"]
 
     @ti.func
     def visit(self, s: ti.template(), i, j, rij, r2, coef, rates: ti.template()):
         """Pair (i, j) of the list, with coef = m_j F(r_ij) (grad_i W_ij = F r_ij): the
-        gradient needs no kernel evaluation (it cost the non-pressure pass 30 %)."""
+        gradient needs no kernel evaluation (docs/dfsph.md, "Pair list")."""
         r = ti.sqrt(r2)
         grad = (coef / s.Ss[self.q.mass, j]) * rij
         for t in ti.static(self.terms):
             ti.static(kernels._traced(t.name, "pair"))
             t.pair(s, i, j, rij, r, grad, rates)
         if ti.static(self.head):
-            if s.Si[self.q.kind, j] == WALL and s.params[self.p_head] > 0.0:
+            if s.Si[self.q.kind, j] == WALL:
                 # p_wall - p_i = rho_i g . (x_wall - x_i): a_i -= m_b (that / rho_i^2) grad W
                 g = ti.Vector([s.params[self.p_gravity + d] for d in ti.static(range(rij.n))])
                 rates.acc += (coef * g.dot(rij) / s.Ss[self.q.density, i]) * rij

@@ -14,11 +14,18 @@ The time of each frame is in the
 ``.pvd`` only. Every file is written under a temporary name and renamed, and the
 index is rewritten after each frame, so an interrupted run leaves whole files and
 an index that opens.
+
+A new series (not a resumed one) first removes an earlier series of the same name from
+the folder: its frames ``<case>_NNNNN.vtu``, its ``<case>.pvd`` and the ``walls.vtu``
+that index listed; no other file. The folder then holds one series, all of it listed
+(a shorter rerun left the longer run's last frames beside it); the run's summary says
+how many frames went.
 """
 
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
@@ -70,17 +77,45 @@ def read_pvd(path) -> list[tuple[float, int, str]]:
     return [(float(e.get("timestep")), int(e.get("part", 0)), e.get("file")) for e in root.iter("DataSet")]
 
 
-class VTKWriter:
-    """Writes frames of a simulation to `folder` (created if needed)."""
+def remove_series(folder, name: str, keep_walls: bool = False) -> int:
+    """Remove the series `name` from `folder`: its frames (``name_NNNNN.vtu``), its index
+    (``name.pvd``) and, if that index lists it and not `keep_walls`, ``walls.vtu``; no
+    other file. Returns the number of frames removed."""
+    folder = Path(folder)
+    frame = re.compile(re.escape(name) + r"_\d{5,}\.vtu")
+    frames = [p for p in folder.iterdir() if frame.fullmatch(p.name) and p.is_file()]
+    index = folder / f"{name}.pvd"
+    walls = False
+    if index.is_file():
+        try:
+            walls = any(file == "walls.vtu" for _, _, file in read_pvd(index))
+        except Exception:  # noqa: BLE001 -- an index that does not parse lists nothing
+            walls = False
+    for path in frames:
+        path.unlink()
+    if index.is_file():
+        index.unlink()
+    if walls and not keep_walls:
+        (folder / "walls.vtu").unlink(missing_ok=True)
+    return len(frames)
 
-    def __init__(self, folder, sim, resume=None):
-        """`resume`: (next frame number, index entries) of a run being continued."""
-        self.folder = Path(folder)
+
+class VTKWriter:
+    """Writes frames of a simulation to `folder` (created if needed).
+
+    ``removed``: frames of an earlier series of the scene's name that starting this one
+    removed from `folder` (see the module docstring; none when resuming)."""
+
+    def __init__(self, folder, sim, resume=None, initial_only: bool = False):
+        """`resume`: (next frame number, index entries) of a run being continued;
+        `initial_only`: write the initial frame and no other (a run of 0 frames)."""
+        self.folder, self.initial_only = Path(folder), initial_only
         self.folder.mkdir(parents=True, exist_ok=True)
         self.name = sim.scene.name
         self.frame, self.entries = (0, []) if resume is None else (resume[0], list(resume[1]))
         self.walls_file = None
         walls = sim.wall
+        self.removed = 0 if resume is not None else remove_series(self.folder, self.name, keep_walls=walls.any())
         if walls.any():
             self.walls_file = "walls.vtu"
             write_vtu(self.folder / self.walls_file, sim.positions()[walls], self._arrays(sim, walls))
@@ -105,7 +140,8 @@ class VTKWriter:
             self.write(sim)
 
     def on_frame(self, sim, k: int):
-        self.write(sim)
+        if not self.initial_only:
+            self.write(sim)
 
     def write(self, sim) -> Path:
         fluid = sim.fluid

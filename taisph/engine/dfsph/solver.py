@@ -25,7 +25,7 @@ fluid and wall particles; ``g_ij = m_j grad_i W_ij``):
 
    (walls mirror the pressure of the fluid particle, p_wall = p_i); then v += dt a(kv);
 3. the non-pressure forces, the scene's terms that make sense without an equation of
-   state (gravity, laminar and artificial viscosity, XSPH; :data:`KEPT`), and the
+   state (gravity, laminar and artificial viscosity, XSPH; :data:`taisph.scene.solvers.DFSPH_KEPT`), and the
    hydrostatic head of the walls: a mirrored wall particle b has the pressure
    p_i + rho_i g . (x_b - x_i) (Adami et al. 2012 eq. 27), whose part beyond p_i is
    known, a_i += sum_wall g_ib (g . r_ib) / rho_i. Then v* = v + dt a_nonpressure;
@@ -55,8 +55,9 @@ unconverged stops the run through the guards (``UNCONVERGED``, :mod:`.diagnosis`
 Each solve starts from the last step's pressures (warm start, BK17 sec. 4.3; the first
 from the scene's initial pressure, :func:`initial_kappa`). Particles with fewer than
 7 (2D) or 20 (3D) neighbours (splashes) get no divergence correction. The measured
-choices behind each of these are in docs/dfsph.md; ``DEFAULTS`` holds the device
-parameters that select them.
+choices behind each of these, and the alternatives measured, are in docs/dfsph.md; the
+chosen ones are compiled in (:mod:`.kernels`), the values derived per scene are the
+runtime parameters :data:`PARAMS`.
 
 The time step: dt = min(C h / max|v|, 0.1 sqrt(h / |g|), 0.125 h^2 / nu, dt_max)
 (:mod:`.timestep`, the same formula as the weakly compressible step with the signal
@@ -72,68 +73,37 @@ in the density sum; the choice and its measurements are in docs/dfsph.md.
 
 
 import collections
+import math
 from dataclasses import dataclass, field
 
+import numpy as np
 import taichi as ti
 
-from . import kernels
-from . import status as st
-from .layout import FLUID
+from .. import kernels, neighbours, smoothing
+from .. import status as st
+from ...eos import tait
+from ..layout import FLUID
+from .kernels import CHUNKS, Bodies  # noqa: F401 (CHUNKS: the size of the error sums' field)
 
-# the terms of a scene that DFSPH keeps (non-pressure forces), and those it replaces
-KEPT = ("gravity", "laminar_viscosity", "xsph", "artificial_viscosity")
-REPLACED = ("continuity", "summation_density", "pressure", "density_diffusion", "dummy_walls")
-
-CHUNKS = 128  # the error sums: per chunk of particles, then a serial sum (an atomic add costs 5x more)
-# device parameters (runtime values, so a measurement can change them without recompiling)
-DEFAULTS = dict(
-    dfsph_warm_start=1.0,  # fraction of the last step's pressures each solve starts from
-    dfsph_wall_mirror=2.0,  # phi: the wall's pressure term is phi k_i (2: p_wall = p_i in the symmetric form)
-    dfsph_wall_head=1.0,  # 1: the hydrostatic head of mirrored walls (above); 0: none
-    dfsph_min_neighbours=-1.0,  # < 0: 7 in 2D, 20 in 3D (SPlisHSPlasH's), 3 in 1D
-    dfsph_relaxation=-1.0,  # omega of the Jacobi update; < 0: relaxation(scene)
-    dfsph_increase_only=0.0,  # 1: a solve only raises pressures (SPlisHSPlasH's min(residual, 0))
-    dfsph_surface_hold=1.0,  # 1: a particle short of rho0 (free surface) must not be compressed either
-    dfsph_rest_ratio=-1.0,
-    dfsph_nu_art=-1.0,
-    dfsph_divergence_tolerance=-1.0,  # the control of that name (set from the controls)  # the artificial viscosity's kinematic viscosity for the dt limit; < 0: from the scene  # the density the solve aims at over rho0; < 0: the lattice's (lattice_ratio)
+# Runtime parameters of the solve: values derived per scene (parameter_values), read by
+# the kernels from the parameter table like any term's.
+PARAMS = (
+    ("dfsph_min_neighbours", 1),  # fewer neighbours: no divergence correction (a splash); MIN_NEIGHBOURS
+    ("dfsph_relaxation", 1),  # omega of the Jacobi updates: relaxation(scene)
+    ("dfsph_rest_ratio", 1),  # the density the density solve aims at, over rho0: lattice_ratio(scene)
+    ("dfsph_nu_art", 1),  # artificial viscosity's kinematic viscosity, for dt: artificial_viscosity_nu(scene)
+    ("dfsph_divergence_tolerance", 1),  # the control of that name (no divergence velocity when within it)
 )
-PARAMS = tuple((name, 1) for name in DEFAULTS)
 Extra = collections.namedtuple("Extra", "pairs part result")  # a field set's DFSPH fields (Solver.extra_fields)
-MIN_NEIGHBOURS = {1: 3, 2: 7, 3: 20}
+MIN_NEIGHBOURS = {1: 3, 2: 7, 3: 20}  # 2D, 3D: SPlisHSPlasH's
 
 
 def relaxation(scene) -> float:
     """omega of the Jacobi updates: min(0.5, 2.3 / sqrt(N)), N the lattice particles in
-    a kernel support (a ball of it over dx^dim). More neighbours weaken the diagonal the
-    update divides by. Measured: 2D, h = 1.3 dx (N = 21): 0.5 converges, 0.6 and 0.7
-    diverged on the dam break; 3D, h = 1.3 dx (N = 74): 0.5 diverged in the first step,
-    0.3 and 0.2 converge (formula: 0.27); 2D, h = 2 dx (N = 50, the probes scene file):
-    0.5 diverged, 0.32 (the formula) and 0.25 converge."""
-    import math
-
-    support = scene.support_radius
-    ball = {1: 2.0 * support, 2: math.pi * support**2, 3: 4.0 / 3.0 * math.pi * support**3}[scene.dim]
+    a kernel support (a ball of it over dx^dim): more neighbours weaken the diagonal the
+    update divides by (measured in 2D and 3D: docs/dfsph.md, "The solve")."""
+    ball = neighbours.ball_volume(scene.support_radius, scene.dim)
     return min(0.5, 2.3 / math.sqrt(ball / scene.dx**scene.dim))
-
-
-def kept_terms(scene) -> list:
-    return [t for t in scene.terms if t.name in KEPT]
-
-
-def check(scene):
-    """Refuse a scene DFSPH cannot run, saying what to change."""
-    for t in scene.terms:
-        if t.name not in KEPT and t.name not in REPLACED:
-            raise ValueError(f"scene {scene.name!r}: the term {t.name!r} cannot be used with solver='dfsph' "
-                             f"(DFSPH keeps {', '.join(KEPT)} and replaces {', '.join(REPLACED)} by its pressure "
-                             "solve); remove it or use solver='wcsph'")
-    if getattr(scene.eos, "name", "") != "tait":
-        raise ValueError(f"scene {scene.name!r}: solver='dfsph' simulates incompressible liquids; the scene's "
-                         f"equation of state is {scene.eos.name!r}: use solver='wcsph'")
-    if scene.neighbour_skin > 0:
-        raise ValueError(f"scene {scene.name!r}: solver='dfsph' builds its own pair list every step; set "
-                         "neighbour_skin = 0 (--neighbour-skin 0)")
 
 
 @ti.data_oriented
@@ -143,13 +113,13 @@ class Incompressible:
     pressure code. The pressure is the solve's, written at the end of every step."""
 
     name = "incompressible"
-    columns = ("rho0", "c0", "gamma", "B")
+    columns = tait.Tait.columns
     scalars = ()
     derived = ()
     outputs = ()
 
     def material_row(self, material) -> list:
-        return [material.rho0, material.c0, material.gamma, material.rho0 * material.c0**2 / material.gamma]
+        return tait.Tait().material_row(material)
 
     def bind(self, layout, material_cols):
         bound = Incompressible()
@@ -186,12 +156,10 @@ def initial_kappa(scene):
     first step would have to build the whole pressure field from zero, which takes
     a Jacobi iteration per kernel radius of depth and more (a 0.5 m tank at
     dx = 0.025 did not converge in 100 iterations). Zero for walls and below zero."""
-    import numpy as np
-
     rho0 = np.array([m.rho0 for m in scene.materials])[scene.material]
     c0 = np.array([m.c0 for m in scene.materials])[scene.material]
     gamma = np.array([m.gamma for m in scene.materials])[scene.material]
-    p = rho0 * c0**2 / gamma * ((scene.density / rho0) ** gamma - 1.0)
+    p = tait.pressure(scene.density, rho0, c0, gamma)
     return np.where(scene.kind == FLUID, np.maximum(p, 0.0) / rho0**2, 0.0)
 
 
@@ -200,36 +168,20 @@ def lattice_ratio(scene) -> float:
     scene's kernel and h): 0.99995 for the cubic spline with h = 1.3 dx in 2D. A solve
     aiming at rho0 itself would read the lattice's density as an expansion and lower
     the pressure of water at rest, step after step."""
-    import numpy as np
-
-    from . import smoothing
-
-    kernel = smoothing.KERNELS[scene.kernel]
     h, dx, dim = scene.smoothing_length, scene.dx, scene.dim
+    kernel = smoothing.make(scene.kernel, dim)
     reach = int(np.ceil(kernel.support * h / dx))
     axis = np.arange(-reach, reach + 1) * dx
     grid = np.stack(np.meshgrid(*([axis] * dim), indexing="ij"), -1).reshape(-1, dim)
     q = np.linalg.norm(grid, axis=1) / h
-    f = {"spline": lambda q: np.where(q < 1, 1 - 1.5 * q**2 + 0.75 * q**3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0)),
-         "wendland": lambda q: np.where(q < 2, (1 - q / 2) ** 3 * ((1.5 * q + 1) if dim == 1 else
-                                                                    (1 - q / 2) * (2 * q + 1)), 0.0),
-         "gaussian": lambda q: np.where(q < 3, np.exp(-q * q) - np.exp(-9.0), 0.0)}[scene.kernel]  # smoothing.py
-    return float(kernel().sigma(dim) / h**dim * f(q).sum() * dx**dim)
+    return float(kernel.sigma(dim) / h**dim * kernel.f_numpy(q).sum() * dx**dim)
 
 
 def parameter_values(scene, controls) -> dict:
-    values = dict(DEFAULTS)
-    if values["dfsph_min_neighbours"] < 0:
-        values["dfsph_min_neighbours"] = MIN_NEIGHBOURS[scene.dim]
-    if values["dfsph_relaxation"] < 0:
-        values["dfsph_relaxation"] = relaxation(scene)
-    if values["dfsph_rest_ratio"] < 0:
-        values["dfsph_rest_ratio"] = lattice_ratio(scene)
-    if values["dfsph_nu_art"] < 0:
-        values["dfsph_nu_art"] = artificial_viscosity_nu(scene)
-    if values["dfsph_divergence_tolerance"] < 0:
-        values["dfsph_divergence_tolerance"] = controls.dfsph_divergence_tolerance
-    return values
+    """The values of :data:`PARAMS` for `scene` and the simulation's `controls`."""
+    return dict(dfsph_min_neighbours=MIN_NEIGHBOURS[scene.dim], dfsph_relaxation=relaxation(scene),
+                dfsph_rest_ratio=lattice_ratio(scene), dfsph_nu_art=artificial_viscosity_nu(scene),
+                dfsph_divergence_tolerance=controls.dfsph_divergence_tolerance)
 
 
 def artificial_viscosity_nu(scene) -> float:
@@ -284,8 +236,6 @@ class Stepper:
 
     def __init__(self, solver, fields, serial_sort: bool):
         self.fields = fields
-        from .dfsph_kernels import Bodies
-
         bodies = Bodies(solver, fields.extra)
         make = solver.make_kernel
         args = fields.args

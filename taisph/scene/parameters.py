@@ -25,13 +25,14 @@ import math
 import numbers
 import os
 
-from .engine.integrators import INTEGRATORS
-from .engine.smoothing import KERNELS
+from ..messages import InputError
+from .names import INTEGRATORS, KERNELS, SOLVERS
 
 
-class ParameterError(ValueError):
-    """A parameter outside its allowed range. The message names the case or option,
-    the parameter, its value and what is allowed."""
+class ParameterError(InputError):
+    """A parameter outside its allowed range, or a word that does not parse as one. The
+    message names the case or option, the parameter, its value and what is allowed
+    (an :class:`taisph.messages.InputError`: exit code 2 on the command line)."""
 
 
 class Range:
@@ -45,7 +46,8 @@ class Range:
         raise NotImplementedError
 
     def parse(self, text: str):
-        """The value a command-line word stands for (ValueError saying what was expected)."""
+        """The value a command-line word stands for (:class:`ParameterError`, a ValueError,
+        saying what was expected)."""
         raise NotImplementedError
 
     def check(self, name: str, value, owner: str = "") -> None:
@@ -95,7 +97,7 @@ class Number(Range):
         try:
             return int(text) if self.integer else float(text)
         except ValueError:
-            raise ValueError(f"expected {'an integer' if self.integer else 'a number'}, got {text!r}") from None
+            raise ParameterError(f"expected {'an integer' if self.integer else 'a number'}, got {text!r}") from None
 
 
 def at_least(low) -> Number:
@@ -123,6 +125,33 @@ finite = Number()
 smoothing_factor = Number(0.5, 3.0, low_open=True)
 # dt = C h / c: the CFL condition asks for C below 1 (the gas cases are stable up to 0.5)
 courant_number = Number(0, 1, low_open=True)
+# The ranges of quantities cases, scene files and the command line share (one range each,
+# so a value is refused in the same words wherever it is given):
+# t_end (s): about a day of simulated time is millions of steps at any resolution the
+# engine runs; beyond it, a mistyped exponent
+end_time = Number(0, 1e5, low_open=True)
+# frames written (each frame's time is kept in a list: 10^5 is a frame per 10 ms for 1000 s)
+frame_count = integer(at_least=1, at_most=100_000)
+output_frames = integer(at_least=0, at_most=100_000)  # a run's frames: 0 writes the initial frame only
+# Monaghan's alpha: the artificial viscosity h alpha c / (2 (d + 2)) keeps the explicit
+# viscous limit of the step (0.125 h^2 / nu) above the CFL step (0.25 h / c) up to
+# alpha = 4; 1 for shocks (Monaghan 1992), 0.01-0.1 for free-surface flows
+viscosity_alpha = between(0, 2)
+# delta-SPH's delta (a diffusivity delta h c0): 0.1 (Antuono et al. 2010); at 1 its
+# explicit limit h / (2 d delta c0) is already about the CFL step 0.25 h / c0
+diffusion_delta = between(0, 1)
+# XSPH's epsilon: a fraction of the neighbours' mean velocity difference (0.5 Monaghan 1989)
+xsph_epsilon = between(0, 1)
+# gravity (m/s^2): up to 100 g (the sound speed 10 sqrt(2 g H) follows it)
+gravity_magnitude = Number(0, 1000, low_open=True)
+gravity_component = between(-1000, 1000)
+# a material's reference density (kg/m^3; the densest liquid, mercury, is 13 500),
+# sound speed (m/s; water's is 1480) and Tait exponent (water's 7)
+reference_density = Number(0, 1e5, low_open=True)
+speed_of_sound = Number(0, 1e5, low_open=True)
+tait_exponent = Number(0, 20, low_open=True)
+# a velocity component (m/s): the sound speed, 10 times the fastest flow, stays in range
+velocity_component = between(-1e4, 1e4)
 
 
 class OneOf(Range):
@@ -142,7 +171,7 @@ class OneOf(Range):
         for c in self.choices:
             if str(c) == text:
                 return c
-        raise ValueError(f"expected one of {', '.join(str(c) for c in self.choices)}, got {text!r}")
+        raise ParameterError(f"expected one of {', '.join(str(c) for c in self.choices)}, got {text!r}")
 
 
 def one_of(*choices) -> OneOf:
@@ -151,6 +180,7 @@ def one_of(*choices) -> OneOf:
 
 known_kernel = one_of(*KERNELS)
 known_integrator = one_of(*INTEGRATORS)
+known_solver = one_of(*SOLVERS)
 
 
 class Flag(Range):
@@ -168,7 +198,7 @@ class Flag(Range):
         try:
             return self.WORDS[text.lower()]
         except KeyError:
-            raise ValueError(f"expected true or false, got {text!r}") from None
+            raise ParameterError(f"expected true or false, got {text!r}") from None
 
 
 flag = Flag()
@@ -214,8 +244,8 @@ class Vector(Range):
     def parse(self, text: str):
         words = text.strip().strip("()").split(",")
         if len(words) != len(self.components):
-            raise ValueError(f"expected {len(self.components)} comma-separated values "
-                             f"({','.join(self.names)}), got {text!r}")
+            raise ParameterError(f"expected {len(self.components)} comma-separated values "
+                                 f"({','.join(self.names)}), got {text!r}")
         return tuple(c.parse(w.strip()) for c, w in zip(self.components, words))
 
 
@@ -289,9 +319,17 @@ def lattice_count(owner: str, what: str, spacing: float, *sides: tuple, spacing_
         raise ParameterError(f"{owner}: {given} leaves {what} ({listed}) without particles along {name}: "
                              f"{spacing_name} must be at most {shortest:g} m")
     count = math.prod(max(1, round(v / spacing)) for _, v in sides)
-    need, have = count * BYTES_PER_PARTICLE, _memory_bytes()
-    if need > have:
-        raise ParameterError(f"{owner}: {given} fills {what} ({listed}) with {count:.3g} particles, which need "
-                             f"at least {need / 1e9:.3g} GB; this machine has {have / 1e9:.3g} GB: use a larger dx")
+    problem = memory_shortage(count)
+    if problem:
+        raise ParameterError(f"{owner}: {given} fills {what} ({listed}) with {count:.3g} particles, {problem}")
     return count
+
+
+def memory_shortage(count: float) -> str:
+    """'' if `count` particles fit in this machine's memory (at least
+    :data:`BYTES_PER_PARTICLE` each), else what is wrong, to follow "N particles, "."""
+    need, have = count * BYTES_PER_PARTICLE, _memory_bytes()
+    if need <= have:
+        return ""
+    return f"which need at least {need / 1e9:.3g} GB; this machine has {have / 1e9:.3g} GB: use a larger dx"
 

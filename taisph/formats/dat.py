@@ -36,6 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..messages import InputError
+
 COLUMNS = {
     2: ("index", "x", "y", "u", "v", "mass", "density", "pressure", "energy"),
     3: ("index", "x", "y", "z", "u", "v", "w", "mass", "density", "pressure", "energy"),
@@ -43,8 +45,10 @@ COLUMNS = {
 DIM_OF_COLUMNS = {len(c): d for d, c in COLUMNS.items()}
 
 
-class SeedFileError(ValueError):
-    """Bad input in a seed-format file: ``str(err)`` names the file, the line and the value."""
+class SeedFileError(InputError):
+    """Bad input in a seed-format file, or one that does not exist or does not read:
+    ``str(err)`` names the file, the line and the value (an
+    :class:`taisph.messages.InputError`: exit code 2 on the command line)."""
 
     def __init__(self, path, message: str, line: int | None = None):
         self.path = str(path)

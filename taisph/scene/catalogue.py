@@ -1,17 +1,24 @@
-"""The built-in cases as the command line sees them: the registry, each case's parameters
+"""The built-in cases and the shipped scene files: the registry, each case's parameters
 (default and allowed range, declared in the case's file with
-:func:`taisph.parameters.checked`) and the one parser of ``--set NAME=VALUE``.
+:func:`taisph.scene.parameters.checked`) and the one parser of ``NAME=VALUE`` settings.
 
-Used by the case commands (:mod:`taisph.cli.main`) and by ``export``
-(:mod:`taisph.cli.dat`).
+Used by the command line (:mod:`taisph.cli`), sweeps (:mod:`taisph.sweeps`) and
+validation runs.
 """
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 import inspect
+import sys
 from dataclasses import dataclass
+from pathlib import Path
 
-from ..parameters import ParameterError, Range
+from .names import SOLVERS
+from .parameters import ParameterError, Range
+
+PACKAGE = __name__.split(".")[0]  # taisph
 
 
 @dataclass(frozen=True)
@@ -23,11 +30,51 @@ class Parameter:
     range: Range
 
 
+def load_cases():
+    """The built-in cases as the package ``taisph.cases``, imported on first use.
+
+    An installed taisph has them as a subpackage. A source checkout (``python -m
+    taisph`` from the repository root) keeps them in ``cases/`` beside ``taisph/``.
+    The cases are plug-ins that import taisph, so they are loaded by name, not by an
+    import statement of this package.
+    """
+    name = f"{PACKAGE}.cases"
+    if name in sys.modules:
+        return sys.modules[name]
+    try:
+        return importlib.import_module(name)  # installed
+    except ImportError:
+        src = Path(__file__).resolve().parents[2] / "cases"
+        spec = importlib.util.spec_from_file_location(name, src / "__init__.py", submodule_search_locations=[str(src)])
+        if spec is None:
+            raise ImportError(f"taisph's cases are neither installed nor in {src}") from None
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+        return module
+
+
 def registry() -> dict:
     """The built-in cases, name -> function returning a :class:`taisph.Scene`."""
-    import taisph
+    return load_cases().CASES
 
-    return taisph.cases.CASES
+
+def cases_folder() -> Path:
+    """The folder of the built-in cases and the shipped scene files."""
+    return Path(load_cases().__file__).resolve().parent
+
+
+def scene_files() -> list:
+    """The scene files shipped in cases/, sorted by name."""
+    return sorted(cases_folder().glob("*.toml"))
+
+
+def find_scene_file(name: str) -> Path:
+    """`name` as given, or else the scene file of that name shipped in cases/."""
+    path = Path(name)
+    if not path.exists() and (cases_folder() / path.name).is_file():
+        return cases_folder() / path.name
+    return path
 
 
 def find(name: str):
@@ -60,9 +107,6 @@ def parse_setting(case: str, item: str) -> tuple[str, object]:
         return key, params[key].range.parse(text.strip())
     except ValueError as err:
         raise ParameterError(f"--set {item}: {key} must be {params[key].range.describe()}; {err}") from None
-
-
-SOLVERS = ("wcsph", "dfsph")  # taisph.Scene.solver
 
 
 def solver_setting(settings, solver=None):

@@ -1,0 +1,256 @@
+"""``python -m taisph CASE [options]``: the options of a run (:func:`build_parser`), and
+what every run command shares: the exit codes of refused input and stopped runs
+(:func:`guarded`), probes from ``--probe``, the output folder and the run itself
+(:func:`simulate`), used by the case and scene-file commands.
+
+Exit codes: 0 done; 2 input refused (:class:`taisph.messages.InputError`: a parameter,
+option, scene or file a user can correct; one line ``taisph: error: MESSAGE``, nothing
+built or written); 3 a run stopped by a guard (:class:`taisph.SimulationError`); 1 any
+other exception, with its traceback: a fault of taisph, not of the input."""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import dataclasses
+import inspect
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..engine.layout import WALL
+from ..engine.timestep import DFSPH_COURANT, Controls
+from ..messages import InputError
+from ..scene import catalogue
+from ..scene.names import INTEGRATORS, KERNELS, SOLVERS
+from .parser import (COURANT, END_TIME, EVERY, FRACTION, NON_NEGATIVE, OUTPUT_FRAMES, POSITIVE, SKIN, THREADS, Parser,
+                     UsageError)
+
+# the simulation's own defaults (taisph.engine.timestep.Controls), for the options that set them
+CONTROLS = {f.name: f.default for f in dataclasses.fields(Controls)}
+
+USAGE = """\
+python -m taisph CASE [options]     run a built-in case (e.g. dam_break)
+python -m taisph CASE --help        the case's description and parameters
+python -m taisph list               list the built-in cases
+python -m taisph resume DIR [--t-end T]   continue a run from its checkpoint folder (resume --help)
+python -m taisph sweep CASE --vary NAME=v1,v2 --out DIR   runs of every combination on a Dask cluster (sweep --help)
+python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL   the seed's files (run --help)
+python -m taisph export CASE --dat DIR    a case as the seed's files (export --help)"""
+
+EPILOG = """\
+examples:
+  python -m taisph dam_break                       # defaults; frames in out/dam_break
+  python -m taisph dam_break --dx 0.01 --t-end 1 --frames 20 --out run1
+  python -m taisph dam_break --set alpha=0.05 --integrator euler --dt 5e-5
+  python -m taisph dam_break --solver dfsph           # incompressible: DFSPH (docs/dfsph.md)
+Open OUT/CASE.pvd in ParaView (File > Open, Apply) to see the time series."""
+
+
+def build_parser(case: str | None = None, target_help: str = "case name, or 'list'") -> Parser:
+    """The parser of ``python -m taisph CASE [options]``; with a case, its help lists the
+    case's parameters with their defaults and ranges, and its effects. `target_help`
+    describes the positional argument (a case, or a scene file)."""
+    description = "taisph: smoothed particle hydrodynamics on Taichi."
+    scene, failure = None, None
+    if case:
+        description = f"{case}: {inspect.getdoc(catalogue.find(case))}"
+        try:
+            scene = catalogue.find(case)()
+        except Exception as err:  # a case that cannot build with its defaults still gets --help
+            failure = err
+    this = _case_defaults(scene)
+    parser = Parser(
+        prog="python -m taisph" + (f" {case}" if case else ""),
+        usage=None if case else USAGE,
+        description=description,
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("case", nargs="?" if case else 1, help=target_help)
+    g = parser.add_argument_group("resolution and time")
+    g.add_argument("--dx", type=POSITIVE, help=f"particle spacing (m, > 0); sets the resolution{this['dx']}")
+    g.add_argument("--t-end", type=END_TIME, help=f"simulated end time (s, in (0, 1e5]){this['t_end']}")
+    g.add_argument("--dt", type=POSITIVE, help="fixed time step (s, > 0); default: adaptive (CFL, force and viscous limits)")
+    g.add_argument("--frames", type=OUTPUT_FRAMES,
+                   help=f"frames to write after the initial one (0 to 1e5; 0: the initial frame only; default: the "
+                        f"case's){this['frames']}")
+    g.add_argument("--courant", type=COURANT, metavar="C",
+                   help="Courant number of the adaptive step dt = C h / max(c + |v|) (0 < C <= 1); default: a "
+                        f"scene file's courant, else the case's (dam_break: 0.4 in 2D), else {CONTROLS['courant']:g}; DFSPH: "
+                        f"dt = C h / max |v|, {DFSPH_COURANT:g}{this['courant']}")
+    g = parser.add_argument_group("numerics")
+    g.add_argument("--solver", choices=SOLVERS,
+                   help="wcsph: weakly compressible (the default); dfsph: divergence-free SPH, an implicit "
+                        "incompressible pressure solve (docs/dfsph.md); also --set solver=NAME")
+    g.add_argument("--integrator", choices=INTEGRATORS, help=f"time integrator (wcsph){this['integrator']}")
+    g.add_argument("--kernel", choices=KERNELS, help=f"smoothing kernel{this['kernel']}")
+    g.add_argument("--precision", choices=["f32", "f64"], default="f64", help="float precision (default f64)")
+    g.add_argument("--neighbour-skin", type=SKIN, metavar="F",
+                   help="reuse neighbour lists until a particle moves F/2 support radii (F in [0, 2]; default 0: "
+                        "walk the cells every step, as fast on CPUs; see docs/performance.md)")
+    g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="set any case parameter (see CASE --help); repeatable")
+    g = parser.add_argument_group("guards and restarts")
+    g.add_argument("--max-density-error", type=NON_NEGATIVE, default=CONTROLS["max_density_error"],
+                   help="stop when |rho/rho0 - 1| exceeds this fraction (>= 0; 0: off; default "
+                        f"{CONTROLS['max_density_error']:g})")
+    g.add_argument("--remove-escaped", action="store_true",
+                   help="remove (and count) particles that leave the domain instead of stopping, and particles "
+                        "whose density leaves the range, up to --max-out-of-range")
+    g.add_argument("--max-out-of-range", type=FRACTION, default=CONTROLS["max_out_of_range"], metavar="F",
+                   help="with --remove-escaped (or a case that removes escaped particles, as dam_break): the "
+                        "fraction of the fluid particles that may be removed for their density before the next "
+                        f"one stops the run (0 to 1; default {CONTROLS['max_out_of_range']:g})")
+    g.add_argument("--checkpoint-every", type=EVERY, metavar="K",
+                   help="write a checkpoint to OUT/checkpoint every K frames (K >= 1; resume with "
+                        "'resume OUT/checkpoint')")
+    g.add_argument("--deterministic", action="store_true",
+                   help="serial cell sort at every size: bit-for-bit reproducible runs and restarts")
+    g = parser.add_argument_group("output and machine")
+    g.add_argument("--out", type=Path, help="output folder (default: out/CASE)")
+    g.add_argument("--no-output", action="store_true",
+                   help="write no frames (benchmarking); probes are still written to OUT/probes.csv")
+    g.add_argument("--probe", action="append", default=[], metavar="KIND:NAME:WHERE[:EVERY]",
+                   help="sample a probe into OUT/probes.csv (repeatable): pressure:P1:3.22,0.16 (a point), "
+                        "elevation:gauge:0.6:10 (a vertical line at x = 0.6, every 10 steps), force:F:walls "
+                        "(all wall particles; a scene file's wall group names); docs/scenes.md")
+    g.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"], help="Taichi backend (default cpu)")
+    g.add_argument("--threads", type=THREADS, help="CPU threads (>= 1; default: all cores)")
+    g.add_argument("--no-progress", action="store_true", help="no progress bar")
+    if case:
+        effects = ("\n".join(f"  {t.describe()}" for t in scene.terms) if scene is not None
+                   else f"  (could not build the default scene: {failure})")
+        parser.epilog = ("case parameters (--set NAME=VALUE), default and allowed range:\n"
+                         + catalogue.describe_parameters(case)
+                         + "\n\neffects (compiled in):\n" + effects + "\n\n" + EPILOG)
+    return parser
+
+
+def _case_defaults(scene) -> dict:
+    """``"; this case: VALUE"`` for each option a case sets (its default scene's value),
+    so that ``CASE --help`` shows what a run without the option does; "" without a case."""
+    if scene is None:
+        return collections.defaultdict(str)
+    courant = (DFSPH_COURANT if scene.solver == "dfsph" else
+               scene.courant if scene.courant is not None else CONTROLS["courant"])
+    values = dict(dx=f"{scene.dx:g} m", t_end=f"{scene.t_end:g} s", frames=scene.frames, courant=f"{courant:g}",
+                  integrator=scene.integrator, kernel=scene.kernel)
+    return collections.defaultdict(str, {key: f"; this case: {value}" for key, value in values.items()})
+
+
+def guarded(func, *args) -> int:
+    """Run a command: a refused input (:class:`taisph.messages.InputError`: ParameterError,
+    UsageError, SceneFileError, SeedFileError, a scene's refusal...) is exit code 2 and a
+    run stopped by a guard 3, each with its message on stderr. Any other exception is a
+    fault of taisph, not of the input: it propagates with its traceback (exit code 1)."""
+    from ..run.simulation import SimulationError
+
+    try:
+        return func(*args)
+    except SimulationError as err:
+        print(f"taisph: {err}", file=sys.stderr)
+        return 3
+    except InputError as err:
+        print(f"taisph: error: {err}", file=sys.stderr)
+        return 2
+
+
+def run_case(name: str, argv) -> int:
+    """``python -m taisph CASE [options]``: every option and parameter is checked (and
+    the scene built) before anything is compiled or written."""
+    args = build_parser(name).parse_args(argv)
+    settings, solver = catalogue.solver_setting(args.set, args.solver)
+    kwargs = catalogue.case_arguments(name, settings, dx=args.dx, integrator=args.integrator, kernel=args.kernel)
+    scene = catalogue.find(name)(**kwargs)
+    if solver is not None:
+        scene.solver = solver
+    if args.dt is not None:
+        scene.dt = args.dt
+    walls = {"walls": np.flatnonzero(scene.kind == WALL)}
+    probes = command_line_probes(args, scene, walls)
+    folder = probe_folder(scene, args)  # OUT, also with --no-output (which writes no frames)
+    writers = probe_writers(probes, walls, folder)
+    try:
+        return simulate(scene, args, writers=writers, notes=probe_notes(probes, folder))
+    finally:
+        for writer in writers:
+            writer.close()
+
+
+def command_line_probes(args, scene, walls) -> list:
+    """The ``--probe`` options as probes for `scene`, checked (wall groups, and points
+    inside the scene's domain) before anything is compiled or written."""
+    from ..probes import check_inside, parse
+
+    probes = [parse(text, scene.dim) for text in args.probe]
+    for p in probes:
+        if p.kind == "force" and p.walls not in walls:
+            raise UsageError(f"--probe force:{p.name}:{p.walls}: no wall group {p.walls!r}; wall groups: "
+                             + (", ".join(walls) or "none"))
+    check_inside(probes, scene.domain, "--probe")
+    return probes
+
+
+def probe_notes(probes, out) -> list:
+    """The line a run prints about its probes."""
+    if not probes:
+        return []
+    return [f"probes to {Path(out) / 'probes.csv'}: "
+            + ", ".join(f"{p.name} ({p.kind}{f', every {p.every} steps' if p.every > 1 else ''})" for p in probes)]
+
+
+def probe_writers(probes, walls, out) -> list:
+    """A :class:`taisph.probes.Probes` writer into OUT/probes.csv, if there are probes and an output folder."""
+    if not probes or out is None:
+        return []
+    from ..probes import Probes
+
+    return [Probes(probes, walls=walls, path=Path(out) / "probes.csv")]
+
+
+def probe_folder(scene, args) -> Path:
+    """Where a run writes its probes: ``--out``, default ``out/NAME``, also with ``--no-output``."""
+    return args.out or Path("out") / scene.name
+
+
+def output_folder(scene, args) -> Path | None:
+    """Where a run writes its frames (``--out``, default ``out/NAME``); None with ``--no-output``."""
+    return None if args.no_output else probe_folder(scene, args)
+
+
+def simulate(scene, args, t_end=None, frames=None, notes=(), writers=(), controls=None) -> int:
+    """Simulate `scene` as the case options `args` say (output folder, guards, machine,
+    progress), print its description (and `notes`), the set-up time and the summary.
+    `controls`: further simulation controls (a scene file's ``courant``); ``--courant``
+    overrides."""
+    import taisph
+
+    if args.neighbour_skin is not None:
+        scene.neighbour_skin = args.neighbour_skin
+    out = output_folder(scene, args)
+    print(scene.describe())
+    for line in notes:
+        print(f"  {line}")
+    start = time.perf_counter()
+    controls = dict(controls or {})
+    if args.courant is not None:
+        controls["courant"] = args.courant
+    sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads,
+                            max_density_error=args.max_density_error, remove_escaped=args.remove_escaped or None,
+                            max_out_of_range=args.max_out_of_range,
+                            deterministic=args.deterministic, **controls)
+    step = (f"fixed dt = {sim.dt:.3g} s" if sim.controls.dt
+            else f"adaptive dt (Courant {sim.controls.courant:g}; first {sim.dt:.3g} s)")
+    print(f"  {sim.runtime.arch}, {sim.runtime.precision}, {sim.runtime.threads} thread(s); {step}; "
+          f"ready in {time.perf_counter() - start:.2f} s (kernel compilation included)")
+    summary = sim.run(args.t_end if t_end is None else t_end, frames=args.frames if frames is None else frames,
+                      out=out, progress=not args.no_progress, checkpoint_every=args.checkpoint_every,
+                      writers=writers)
+    where = f"; open {Path(summary.out) / (scene.name + '.pvd')} in ParaView" if summary.out else ""
+    print(f"done: {summary}{where}")
+    return 0
+
+

@@ -1,1 +1,0 @@
-"""Readers and writers: ParaView frames, checkpoints, the seed's text files, progress."""

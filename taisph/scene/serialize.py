@@ -1,0 +1,205 @@
+"""A :class:`Scene` as plain data and back: a dict of JSON values and a dict of numpy arrays.
+
+    data, arrays = scene_to_data(scene)      # json.dumps(data); np.savez(path, **arrays)
+    scene = scene_from_data(data, arrays)
+
+No pickle: what is stored is the scene's settings, its materials (``{"class": "Material"
+or "Gas", ...their fields}``), its equation of state (``{"name", "class", "options"}``:
+the arguments of its constructor), and each term as ``{"name": term.name, "class":
+class name, "params": {runtime parameter: value}, "options": {compile-time option:
+value}}``, rebuilt as ``Class(**options, **params)`` through the registries below
+(:data:`TERMS`, :data:`EOS`, :data:`MATERIALS`), by class name: moving a module changes
+nothing. A term of a class outside the registry (a user's own) also records its module,
+imported when the scene is rebuilt. The particle arrays (``position``, ``velocity``,
+``mass``, ``density``, ``kind``, ``material``) and the further quantities
+(``quantity.NAME``) are the arrays, in the scene's dtypes.
+
+JSON has no infinity or NaN: such a float is written as ``{"float": "inf"}`` (``"-inf"``,
+``"nan"``), see :func:`plain` and :func:`unplain`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import inspect
+import math
+
+import numpy as np
+
+from ..eos import IdealGas, Tait
+from ..messages import InputError
+from ..terms.base import Term  # (imports taisph.terms, and so every built-in term)
+from .model import Gas, Material, Scene
+
+
+def _subclasses(cls):
+    for sub in cls.__subclasses__():
+        yield sub
+        yield from _subclasses(sub)
+
+
+TERMS = dict(sorted((cls.__name__, cls) for cls in _subclasses(Term) if cls.__module__.startswith("taisph.terms.")))
+EOS = {cls.__name__: cls for cls in (Tait, IdealGas)}
+MATERIALS = {cls.__name__: cls for cls in (Material, Gas)}
+ARRAYS = ("position", "velocity", "mass", "density", "kind", "material")
+QUANTITY = "quantity."  # prefix of the further quantities' arrays
+SPECIAL = set(ARRAYS) | {"quantities", "materials", "terms", "eos", "domain"}  # Scene fields not plain
+
+
+class SceneDataError(InputError):
+    """Plain data that does not describe a scene (a missing class, a bad value...)."""
+
+
+# --- plain values -----------------------------------------------------------------
+def plain(value, what: str = "value"):
+    """`value` as JSON values: numpy scalars and arrays, tuples -> numbers and lists, a
+    non-finite float -> ``{"float": "inf"}``. TypeError naming `what` for anything else."""
+    if value is None or isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        value = float(value)
+        return value if math.isfinite(value) else {"float": repr(value)}
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist(), what)
+    if isinstance(value, (list, tuple)):
+        return [plain(v, what) for v in value]
+    if isinstance(value, dict) and all(isinstance(k, str) for k in value):
+        return {k: plain(v, f"{what}.{k}") for k, v in value.items()}
+    raise TypeError(f"{what}: {value!r} ({type(value).__name__}) cannot be stored as plain data")
+
+
+def unplain(value, tuples: bool = False):
+    """The inverse of :func:`plain`; lists become tuples with `tuples`."""
+    if isinstance(value, dict):
+        if set(value) == {"float"}:
+            return float(value["float"])
+        return {k: unplain(v, tuples) for k, v in value.items()}
+    if isinstance(value, list):
+        items = [unplain(v, tuples) for v in value]
+        return tuple(items) if tuples else items
+    return value
+
+
+# --- terms, equations of state, materials -------------------------------------------
+def term_to_data(term) -> dict:
+    """``{"name", "class", "params", "options"}`` (and ``"module"`` for a class outside
+    :data:`TERMS`)."""
+    cls = type(term)
+    filled = getattr(term, "_default", None)  # a default the term filled in itself (Gravity.check)
+    params = {k: plain(v, f"term {term.name!r} parameter {k}") for k, v in term.values.items()
+              if filled is None or v is not filled}
+    data = {"name": term.name, "class": cls.__name__, "params": params,
+            "options": plain(dict(term.options), f"term {term.name!r} options")}
+    if TERMS.get(cls.__name__) is not cls:
+        data["module"] = cls.__module__
+    return data
+
+
+def _find_class(data: dict, registry: dict, what: str):
+    name = data.get("class")
+    if name in registry:
+        return registry[name]
+    module = data.get("module")
+    if module is None:
+        raise SceneDataError(f"{what} of class {name!r}: this taisph has no such class (it has "
+                             f"{', '.join(registry)})")
+    try:
+        cls = getattr(importlib.import_module(module), name)
+    except (ImportError, AttributeError) as err:
+        raise SceneDataError(f"{what} of class {name!r} from module {module!r}: {err}") from None
+    return cls
+
+
+def term_from_data(data: dict):
+    """The term `data` (:func:`term_to_data`) describes, built by its class."""
+    cls = _find_class(data, TERMS, f"term {data.get('name')!r}")
+    try:
+        term = cls(**unplain(data.get("options", {}), tuples=True), **unplain(data.get("params", {}), tuples=True))
+    except (TypeError, ValueError) as err:
+        raise SceneDataError(f"term {data.get('name')!r} ({cls.__name__}): {err}") from None
+    if term.name != data.get("name", term.name):
+        raise SceneDataError(f"term {data['name']!r}: class {cls.__name__} now makes a term named {term.name!r}")
+    return term
+
+
+def eos_to_data(eos) -> dict:
+    """``{"name", "class", "options"}``: the arguments of its constructor, read back from
+    the attributes of the same names."""
+    cls = type(eos)
+    options = {p.name: plain(getattr(eos, p.name), f"equation of state option {p.name}")
+               for p in inspect.signature(cls).parameters.values()
+               if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)}
+    data = {"name": getattr(eos, "name", cls.__name__), "class": cls.__name__, "options": options}
+    if EOS.get(cls.__name__) is not cls:
+        data["module"] = cls.__module__
+    return data
+
+
+def eos_from_data(data: dict):
+    cls = _find_class(data, EOS, "equation of state")
+    try:
+        return cls(**unplain(data.get("options", {}), tuples=True))
+    except (TypeError, ValueError) as err:
+        raise SceneDataError(f"equation of state {cls.__name__}: {err}") from None
+
+
+def material_to_data(material) -> dict:
+    data = {"class": type(material).__name__}
+    data.update({f.name: plain(getattr(material, f.name), f"material {f.name}") for f in dataclasses.fields(material)})
+    return data
+
+
+def material_from_data(data: dict):
+    data = dict(data)
+    cls = MATERIALS.get(data.pop("class", None))
+    if cls is None:
+        raise SceneDataError(f"material {data.get('name')!r}: class not one of {', '.join(MATERIALS)}")
+    try:
+        return cls(**unplain(data))
+    except TypeError as err:
+        raise SceneDataError(f"material {data.get('name')!r}: {err}") from None
+
+
+# --- the scene ----------------------------------------------------------------------
+def scene_to_data(scene: Scene) -> tuple[dict, dict]:
+    """``(data, arrays)``: the scene's settings, materials, equation of state and terms
+    as JSON values, its particle arrays as numpy (see the module docstring)."""
+    data = {f.name: plain(getattr(scene, f.name), f"scene setting {f.name}")
+            for f in dataclasses.fields(scene) if f.name not in SPECIAL}
+    data["domain"] = [plain(np.asarray(a, float), "scene domain") for a in scene.domain]
+    data["materials"] = [material_to_data(m) for m in scene.materials]
+    data["eos"] = eos_to_data(scene.eos)
+    data["terms"] = [term_to_data(t) for t in scene.terms]
+    data["quantities"] = list(scene.quantities)
+    arrays = {name: np.asarray(getattr(scene, name)) for name in ARRAYS}
+    arrays.update({QUANTITY + name: np.asarray(v) for name, v in scene.quantities.items()})
+    return data, arrays
+
+
+def scene_from_data(data: dict, arrays) -> Scene:
+    """The scene :func:`scene_to_data` gave `data` and `arrays` for (not validated: the
+    scene as it was; :class:`taisph.Simulation` validates it)."""
+    data = dict(data)
+    missing = [k for k in ("name", "dim", "dx", "smoothing_length", "domain", "materials", "eos", "terms")
+               if k not in data] + [
+        k for k in ARRAYS if k not in arrays]
+    if missing:
+        raise SceneDataError(f"scene data without {', '.join(missing)}")
+    quantities = {name: np.asarray(arrays[QUANTITY + name]) for name in data.pop("quantities", [])}
+    special = dict(
+        domain=tuple(np.asarray(a, float) for a in unplain(data.pop("domain"))),
+        materials=[material_from_data(m) for m in data.pop("materials")],
+        eos=eos_from_data(data.pop("eos")),
+        terms=[term_from_data(t) for t in data.pop("terms")],
+    )
+    known = {f.name for f in dataclasses.fields(Scene)}
+    unknown = set(data) - known
+    if unknown:
+        raise SceneDataError(f"scene data with unknown setting(s) {', '.join(sorted(unknown))}")
+    settings = {k: unplain(v, tuples=True) for k, v in data.items()}
+    return Scene(**settings, **special, quantities=quantities, **{k: np.asarray(arrays[k]) for k in ARRAYS})
