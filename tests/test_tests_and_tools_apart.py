@@ -1,13 +1,14 @@
 """Tests and tools share code only through the package: no test imports or executes a
-file of tools/, no tool imports a test (what they share lives in taisph/, e.g.
-taisph.validation.seed_scenes and taisph.validation.accuracy_cost)."""
+file of tools/ (a package of folders: tools/benchmarks/, tools/studies/, ...), no tool
+imports a test (what they share lives in taisph/, e.g. taisph.validation.seed_scenes and
+taisph.validation.accuracy_cost)."""
 
 import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 TESTS = sorted((ROOT / "tests").glob("*.py"))
-TOOLS = sorted((ROOT / "tools").glob("*.py"))
+TOOLS = sorted(p for p in (ROOT / "tools").rglob("*.py") if p.name != "__init__.py")
 
 
 def imported_modules(path):
@@ -29,15 +30,22 @@ def code_strings(path):
             if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docstrings]
 
 
+def test_tools_are_found():
+    """The glob above sees the tools in their folders."""
+    assert len(TOOLS) > 10 and any(p.parent != ROOT / "tools" for p in TOOLS)
+
+
 def test_no_test_imports_or_executes_a_tool():
-    """No test imports a module named like a tool, or names tools/ in its code (a path
-    to load, execute or run); this file, which looks for them, excepted."""
-    tool_names = {p.stem for p in TOOLS}
+    """No test imports the tools package or a module named like a tool, or names tools/
+    in its code (a path to load, execute or run, or a module for ``python -m``); this
+    file, which looks for them, excepted."""
+    tool_names = {p.stem for p in TOOLS} | {"tools"}
     for path in TESTS:
         if path.name == Path(__file__).name:
             continue
         assert not tool_names & set(imported_modules(path)), path.name
-        assert not [s for s in code_strings(path) if s == "tools" or s.startswith("tools/")], path.name
+        assert not [s for s in code_strings(path)
+                    if s == "tools" or s.startswith(("tools/", "tools."))], path.name
 
 
 def test_no_tool_imports_a_test():

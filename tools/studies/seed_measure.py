@@ -3,8 +3,8 @@ asserts and docs/seed.md quotes, at the tests' resolutions (both take them from
 taisph/validation/seed_scenes.py), and the largest difference between running a case and
 running its exported seed files (tests/test_seed_cli.py).
 
-    python tools/seed_measure.py            # about a minute on 2 cores
-    python tools/seed_measure.py --rt       # Rayleigh-Taylor growth vs linear theory (about 3 min)
+    python -m tools.studies.seed_measure            # about a minute on 2 cores
+    python -m tools.studies.seed_measure --rt       # Rayleigh-Taylor growth vs linear theory (about 3 min)
 """
 
 import contextlib
@@ -93,7 +93,7 @@ def two_fluids():
 
 def export_run():
     from taisph.cli import main as cli
-    from taisph.io import dat as seedio
+    from taisph.formats import dat as seedio
 
     for case, params in (("dam_break_wedge", {"dx": 0.08}), ("two_fluids", {"dx": 0.05}),
                          ("drop_on_incline", {"dim": 3, "dx": 0.1})):

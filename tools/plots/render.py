@@ -1,6 +1,6 @@
 """Render frames of a taisph output folder to a PNG (needs matplotlib: pip install .[plot]).
 
-    python tools/render.py out/dam_break --times 0 0.25 0.5 1.0 --color pressure -o docs/dam_break.png
+    python -m tools.plots.render out/dam_break --times 0 0.25 0.5 1.0 --color pressure -o docs/dam_break.png
 
 Reads the .pvd index and the .vtu frames with meshio, picks the frames nearest to the
 requested times, and draws particles (2D: x-y; 3D: x-y projection) coloured by a
@@ -13,7 +13,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from taisph.io.vtk import read_pvd
+from taisph.run.vtk import read_pvd
 
 
 def _magnitude(values):
@@ -23,7 +23,8 @@ def _magnitude(values):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.plots.render",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("folder", type=Path)
     p.add_argument("--times", type=float, nargs="+", help="times to show (default: 4 evenly spaced frames)")
     p.add_argument("--color", default="pressure", help="point array to colour by (default pressure)")

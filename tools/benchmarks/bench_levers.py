@@ -1,12 +1,12 @@
 """Neighbour-loop levers measured on a bare force loop, outside taisph.
 
-    python tools/bench_levers.py cells        # walk the 3 x 3 cells (edge >= support)
-    python tools/bench_levers.py halfcell     # 5 x 5 cells of half the edge (fewer candidates)
-    python tools/bench_levers.py verlet [f64|f32] [n_side] [skin]   # lists, skin a fraction of the support
-    python tools/bench_levers.py symmetric    # each pair once, j's share by atomic adds
+    python -m tools.benchmarks.bench_levers cells        # walk the 3 x 3 cells (edge >= support)
+    python -m tools.benchmarks.bench_levers halfcell     # 5 x 5 cells of half the edge (fewer candidates)
+    python -m tools.benchmarks.bench_levers verlet [f64|f32] [n_side] [skin]   # lists, skin a fraction of the support
+    python -m tools.benchmarks.bench_levers symmetric    # each pair once, j's share by atomic adds
 
-The loop of tools/bench_minimal.py (cubic spline gradient, pressure and continuity
-sums; tools/bare_loop.py) over n_side^2 (default 141^2 = 19,881) cell-sorted particles
+The loop of tools/benchmarks/bench_minimal.py (cubic spline gradient, pressure and continuity
+sums; tools/benchmarks/bare_loop.py) over n_side^2 (default 141^2 = 19,881) cell-sorted particles
 of a jittered lattice in a periodic unit box. "verlet" also prints the mean list length
 and the cost of building the lists. Prints the best of 5 blocks of 100 calls.
 docs/performance.md compares these with the same levers inside taisph.
@@ -15,7 +15,7 @@ import sys
 
 import taichi as ti
 
-from bare_loop import best_time, make_pair, sorted_lattice
+from tools.benchmarks.bare_loop import best_time, make_pair, sorted_lattice
 
 variant = sys.argv[1]
 prec = sys.argv[2] if len(sys.argv) > 2 else "f64"

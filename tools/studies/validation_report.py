@@ -1,8 +1,8 @@
 """Run every validation case at the resolution the documentation quotes and write the
 table of docs/validation.md's measured values.
 
-    python tools/validation_report.py                 # ~15 min on 2 cores; writes docs/validation_runs.md
-    python tools/validation_report.py --out /tmp/v.md --cases poiseuille couette
+    python -m tools.studies.validation_report                 # ~15 min on 2 cores; writes docs/validation_runs.md
+    python -m tools.studies.validation_report --out /tmp/v.md --cases poiseuille couette
 
 Each row: the case, its parameters, the headline error (as defined in
 taisph.validation), the other metrics, particles, steps and the wall time spent stepping
@@ -19,9 +19,7 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+ROOT = Path(__file__).resolve().parents[2]  # the repository
 
 import taisph  # noqa: E402
 from taisph import validation  # noqa: E402
@@ -53,7 +51,8 @@ def fmt(v):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.studies.validation_report",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=str(ROOT / "docs" / "validation_runs.md"))
     p.add_argument("--cases", nargs="+", choices=list(validation.VALIDATIONS))
     args = p.parse_args(argv)
@@ -78,7 +77,8 @@ def main(argv=None):
                                 text=True).stdout.strip()
     except Exception:
         commit = "unknown"
-    command = "python tools/validation_report.py" + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip()
+    command = ("python -m tools.studies.validation_report"
+               + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip())
     text = [
         "# Validation runs",
         "",

@@ -1,15 +1,17 @@
 """A fingerprint of a case's state after N deterministic steps, to show that a change
 of the code's structure changes no result.
 
-    python tools/state_fingerprint.py dam_break --steps 300 --set dx=0.04
-    git checkout OTHER && python tools/state_fingerprint.py dam_break --steps 300 --set dx=0.04
+    python -m tools.studies.state_fingerprint dam_break --steps 300 --set dx=0.04
+    git checkout OTHER && python -m tools.studies.state_fingerprint dam_break --steps 300 --set dx=0.04
 
 Runs the case (``--set NAME=VALUE`` as on the command line) with
 ``deterministic=True`` (serial cell sort: bit-reproducible), takes `--steps` steps and
 prints the SHA-256 of the positions, velocities, densities and pressures (in
 particle-id order, as float64 bytes) and of the clock. Equal digests mean bit-for-bit
 equal states. Uses only the public API (``taisph.cases``, ``taisph.Simulation``), so
-it runs on older commits too.
+it runs on older commits too; on a commit from before tools/studies/ existed, run a copy
+of this file kept outside the repository (``python /tmp/state_fingerprint.py ...``: it
+imports nothing from tools/).
 """
 
 import argparse
@@ -30,7 +32,8 @@ def parse(value: str):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.studies.state_fingerprint",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("case")
     p.add_argument("--steps", type=int, default=300)
     p.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE")

@@ -1,7 +1,7 @@
 """A hand-fused Taichi dam break: the reference the engine's step is measured against.
 
-    python tools/bench_reference.py --dim 2 --dx 0.01 --steps 200     # prints ns per particle-step
-    python tools/bench_reference.py --check                           # agrees with taisph's engine?
+    python -m tools.benchmarks.bench_reference --dim 2 --dx 0.01 --steps 200     # prints ns per particle-step
+    python -m tools.benchmarks.bench_reference --check                           # agrees with taisph's engine?
 
 Exactly the physics and integrator of the flagship dam break's defaults
 (``taisph.cases.dam_break`` / ``dam_break_3d``; it refuses to run if they change): continuity and the symmetric pressure
@@ -22,7 +22,7 @@ counting sort, three launches per step, run back to back without a graph:
 3. force: every fluid particle's rates (one neighbour loop, parameters in registers),
    corrector, maxima for the next dt (read before the atomic).
 
-``tools/bench.py`` runs it beside the engine in the same minute and prints the ratio.
+``tools/benchmarks/bench.py`` runs it beside the engine in the same minute and prints the ratio.
 """
 
 import argparse
@@ -338,7 +338,8 @@ def check(dim: int, dx: float, steps: int = 20) -> float:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(prog="python -m tools.benchmarks.bench_reference",
+                                 description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dim", type=int, choices=(2, 3), default=2)
     ap.add_argument("--dx", type=float, default=0.01)
     ap.add_argument("--steps", type=int, default=200)

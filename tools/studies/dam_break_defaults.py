@@ -1,8 +1,8 @@
 """Which physics should the flagship dam break use by default? Accuracy and cost measured.
 
-    python tools/dam_break_defaults.py                       # the model table, dx = 0.02
-    python tools/dam_break_defaults.py --courant 0.25 0.4 0.5 --set walls=dummy delta=0.1
-    python tools/dam_break_defaults.py --dx 0.01 --models seed best
+    python -m tools.studies.dam_break_defaults                       # the model table, dx = 0.02
+    python -m tools.studies.dam_break_defaults --courant 0.25 0.4 0.5 --set walls=dummy delta=0.1
+    python -m tools.studies.dam_break_defaults --dx 0.01 --models seed best
 
 For each configuration (``--set`` values of the dam_break case and Courant/force
 factors of the time step) it runs the 2D dam break to t = 0.7 s and prints:
@@ -23,7 +23,7 @@ import numpy as np
 
 import taisph
 from taisph import validation
-from taisph.cli.cases import parse_setting
+from taisph.scene.catalogue import parse_setting
 
 MODELS = {  # name: dam_break parameters
     "seed": {},
@@ -55,7 +55,7 @@ def measure(params: dict, courant: float, force_factor: float, t_noise=0.3, t_en
         sim.run(t_noise, frames=1)
         row["noise"] = pressure_noise(sim)
         sim.run(t_end, frames=1)
-    except taisph.simulation.SimulationError as err:
+    except taisph.run.simulation.SimulationError as err:
         row.update(ok=False, failure=str(err).splitlines()[0])
     row.update(wall=time.perf_counter() - start, steps=sim.steps, t=sim.time, fluid=sim.n_fluid)
     sim.close()
@@ -65,7 +65,8 @@ def measure(params: dict, courant: float, force_factor: float, t_noise=0.3, t_en
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(prog="python -m tools.studies.dam_break_defaults",
+                                 description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dx", type=float, default=0.02)
     ap.add_argument("--models", nargs="*", default=list(MODELS), help=f"from {', '.join(MODELS)}")
     ap.add_argument("--set", nargs="*", default=None, metavar="NAME=VALUE",
@@ -75,7 +76,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     configs = ([("set", dict(parse_setting("dam_break", item) for item in args.set))] if args.set is not None
                else [(m, MODELS[m]) for m in args.models])
-    print(f"# python tools/dam_break_defaults.py {' '.join(argv or __import__('sys').argv[1:])}")
+    print(f"# python -m tools.studies.dam_break_defaults {' '.join(argv or __import__('sys').argv[1:])}")
     print("| model | courant | force factor | fluid | ran to 0.7 s | pressure noise | front mean abs dZ | steps "
           "| wall s | wall s per simulated s |")
     print("|---|---:|---:|---:|---|---:|---:|---:|---:|---:|")

@@ -1,7 +1,7 @@
 """Why a lone fluid particle next to dummy walls trips the density guard (docs/validation.md).
 
-    python tools/lone_particle_wall.py               # a lone particle at a flat wall, Courant 0.25/0.125/0.0625
-    python tools/lone_particle_wall.py --dam-break   # trace the particle that stops the 2D dam break
+    python -m tools.studies.lone_particle_wall               # a lone particle at a flat wall, Courant 0.25/0.125/0.0625
+    python -m tools.studies.lone_particle_wall --dam-break   # trace the particle that stops the 2D dam break
 
 The flat wall: one fluid particle dx/2 from a flat dummy wall (3 layers, dx = 0.02 m,
 cubic spline, h = 1.3 dx, the dam break's water: c0 = 34.3 m/s), no gravity, no other
@@ -87,8 +87,8 @@ def flat_wall(courant, wall_viscosity=False, t_end=1.0):
 
 
 def dam_break(particle=1773):
-    from taisph.scenefile import load
-    from taisph.scenefile_build import find_scene_file
+    from taisph.formats.scenefile import load
+    from taisph.scene.catalogue import find_scene_file
 
     scene, _ = load(find_scene_file("dam_break_probes_2d.toml"),
                     {"dx": DX, "kernel": "spline", "h_factor": 1.3, "physics.alpha": 0.1, "courant": 0.25})
@@ -113,7 +113,8 @@ def dam_break(particle=1773):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+    parser = argparse.ArgumentParser(prog="python -m tools.studies.lone_particle_wall",
+                                     description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
     parser.add_argument("--dam-break", action="store_true", help="trace the particle that stops the dam break")
     args = parser.parse_args()

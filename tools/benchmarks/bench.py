@@ -1,13 +1,15 @@
 """Benchmark: the flagship dam break's throughput, against a hand-fused reference loop.
 
-    python tools/bench.py                      # 2D ~10k, 20k, 100k, 1M fluid particles + 3D ~60k
-    python tools/bench.py --quick              # 2D ~10k and 20k only
-    python tools/bench.py --precision f32 --threads 1
-    python tools/bench.py --compare --pysph-python /path/to/pysph-venv/bin/python
-    python tools/bench.py --skin 0.3           # with neighbour lists (no reference then)
+    python -m tools.benchmarks.bench                      # 2D ~10k, 20k, 100k, 1M fluid particles + 3D ~60k
+    python -m tools.benchmarks.bench --quick              # 2D ~10k and 20k only
+    python -m tools.benchmarks.bench --precision f32 --threads 1
+    python -m tools.benchmarks.bench --compare --pysph-python /path/to/pysph-venv/bin/python
+    python -m tools.benchmarks.bench --skin 0.3           # with neighbour lists (no reference then)
+    python -m tools.benchmarks.bench --compare-splishsplash --splishsplash-python /path/to/splash-venv/bin/python
+                                           # or TAISPH_SPLISHSPLASH_PYTHON set (tools/peers/compare_splishsplash.py)
 
 For each size the engine's whole step (``taisph.Simulation.step``: sort, passes,
-force, adaptive dt, guards) and ``tools/bench_reference.py`` (a hand-fused loop with
+force, adaptive dt, guards) and ``tools/benchmarks/bench_reference.py`` (a hand-fused loop with
 exactly the same physics and integrator, from the same particles) run in the same
 process, in alternating blocks of steps; each prints its best block. The VM this was
 developed on drifts up to 2x within minutes, so the ratio engine/reference (speed of
@@ -21,7 +23,7 @@ the engine's wall seconds per simulated second (at the block's mean dt); compile
 and size class, or load from Taichi's offline cache); bytes per particle.
 
 --compare runs taisph's dam break and then PySPH's dam_break_2d example (through
-tools/pysph_dam_break.py, which sets PySPH's particle mass and smoothing length from
+tools/peers/pysph_dam_break.py, which sets PySPH's particle mass and smoothing length from
 the spacing) at the same spacing and end time, output off, OpenMP on, and prints
 both throughputs, both wall seconds per simulated second, and their ratios. Both
 sides exclude compilation and set-up (taisph: a first step; PySPH: the difference of
@@ -36,11 +38,14 @@ import platform
 import subprocess
 import sys
 import time
+from importlib.util import find_spec
 
 import taichi as ti
 
 import taisph
-from bench_reference import flagship, setup as reference_setup
+from tools.benchmarks.bench_reference import flagship, setup as reference_setup
+from tools.peers.compare_splishsplash import SPLISHSPLASH_PYTHON_ENV, splishsplash_python
+from tools.peers.compare_splishsplash import compare as compare_splishsplash
 
 SIZES_2D = (10_000, 20_000, 100_000, 1_000_000)  # fluid particles: 2 / dx^2 (1 m x 2 m column)
 SIZE_3D = 60_000  # 2 / dx^3
@@ -105,8 +110,8 @@ def compare(dx: float, tf: float, pysph_python: str, precision: str, skin=None) 
     ours = dict(code="taisph", fluid=sim.n_fluid, steps=sim.steps - s1, sim_time=sim.time - t1, wall=wall,
                 rate=sim.n_fluid * (sim.steps - s1) / wall)
     sim.close()
-    here = os.path.dirname(os.path.abspath(__file__))
-    cmd = [pysph_python, os.path.join(here, "pysph_dam_break.py"), "--dx", str(dx), "--tf", str(tf), "--openmp"]
+    script = find_spec("tools.peers.pysph_dam_break").origin  # run as a file: PySPH's Python has no taisph
+    cmd = [pysph_python, script, "--dx", str(dx), "--tf", str(tf), "--openmp"]
     print(f"# PySPH: {' '.join(cmd)}", flush=True)
     out = subprocess.run(cmd, capture_output=True, text=True)
     if out.returncode != 0:
@@ -122,7 +127,8 @@ def compare(dx: float, tf: float, pysph_python: str, precision: str, skin=None) 
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.benchmarks.bench",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true", help="small sizes only")
     p.add_argument("--precision", choices=["f32", "f64"], default="f64")
     p.add_argument("--threads", type=int, default=None)
@@ -137,19 +143,21 @@ def main(argv=None):
                    help="neighbour list skin as a fraction of the support radius (0: no lists; default: the case's)")
     p.add_argument("--cases", default="2d,3d", help="which sizes: 2d, 3d or both (default)")
     p.add_argument("--compare-splishsplash", action="store_true",
-                   help="taisph's DFSPH and SPlisHSPlasH's on the dam break (dx 0.01, to 0.2 s; tools/compare_splishsplash.py)")
-    p.add_argument("--splishsplash-python", default="python", help="a Python with pysplishsplash (for --compare-splishsplash)")
+                   help="taisph's DFSPH and SPlisHSPlasH's on the dam break (dx 0.01, to 0.2 s; "
+                        "tools/peers/compare_splishsplash.py)")
+    p.add_argument("--splishsplash-python", default=None,
+                   help="a Python with pysplishsplash (for --compare-splishsplash; "
+                        f"default ${SPLISHSPLASH_PYTHON_ENV})")
     args = p.parse_args(argv)
 
     rt = taisph.engine.runtime.init(precision=args.precision, threads=args.threads)
     print(f"# taisph {taisph.__version__}, taichi {ti.__version__}, {platform.python_version()}, "
           f"{platform.machine()}, {os.cpu_count()} cores, {rt.threads} thread(s), {rt.precision}, "
           f"arch {rt.arch}, {time.strftime('%Y-%m-%d %H:%M')}")
-    print(f"# command: python tools/bench.py {' '.join(sys.argv[1:] if argv is None else argv)}")
-    if args.compare_splishsplash:  # in its own module: tools/compare_splishsplash.py
-        from compare_splishsplash import compare as compare_splishsplash
-
-        compare_splishsplash(args.splishsplash_python, dx=args.dx, tf=0.2, precision=args.precision)
+    print(f"# command: python -m tools.benchmarks.bench {' '.join(sys.argv[1:] if argv is None else argv)}")
+    if args.compare_splishsplash:  # in its own module: tools/peers/compare_splishsplash.py
+        compare_splishsplash(splishsplash_python(args.splishsplash_python), dx=args.dx, tf=0.2,
+                             precision=args.precision)
         return
     if args.compare:
         compare(args.dx, args.tf, args.pysph_python, args.precision, args.skin)

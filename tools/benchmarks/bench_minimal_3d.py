@@ -1,16 +1,16 @@
-"""The bare force loop of tools/bench_minimal.py in 3D, for scale.
+"""The bare force loop of tools/benchmarks/bench_minimal.py in 3D, for scale.
 
-    python tools/bench_minimal_3d.py
+    python -m tools.benchmarks.bench_minimal_3d
 
 32^3 = 32,768 particles of a lattice in a periodic unit box, cubic spline with
 h = 1.3 dx, 27 cells per particle, pressure and continuity sums only
-(tools/bare_loop.py). Prints the mean number of neighbours and the cost per particle
+(tools/benchmarks/bare_loop.py). Prints the mean number of neighbours and the cost per particle
 and per neighbour pair (best of 5 blocks of 10 calls): what one neighbour costs on
 this machine before any physics.
 """
 import taichi as ti
 
-from bare_loop import best_time, make_pair, sorted_lattice
+from tools.benchmarks.bare_loop import best_time, make_pair, sorted_lattice
 
 ti.init(arch=ti.cpu, default_fp=ti.f64)
 n_side = 32

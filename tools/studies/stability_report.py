@@ -1,7 +1,7 @@
 """Run the stability suite's scenes at full size and print what each showed.
 
-    python tools/stability_report.py            # all scenes (about 15 min on 2 cores)
-    python tools/stability_report.py --quick    # CI sizes (about 1 min)
+    python -m tools.studies.stability_report            # all scenes (about 15 min on 2 cores)
+    python -m tools.studies.stability_report --quick    # CI sizes (about 1 min)
 
 Each row: the scene, its size, steps and dt range, and the invariants the tests
 assert (finite state, wall penetration, density error, mass, energy).
@@ -14,7 +14,7 @@ import numpy as np
 
 import taisph
 from taisph.geometry import box_walls, lattice
-from taisph.simulation import SimulationError
+from taisph.run.simulation import SimulationError
 from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
 
 G = 9.81
@@ -122,7 +122,8 @@ def free_fall(quick):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.studies.stability_report",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true")
     p.add_argument("--only", nargs="+", help="scenes to run: still_water dam_break drop free_fall")
     args = p.parse_args(argv)

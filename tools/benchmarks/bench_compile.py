@@ -1,6 +1,6 @@
 """Time to first step, cold and warm, and a 10-run parameter sweep that compiles once.
 
-    python tools/bench_compile.py
+    python -m tools.benchmarks.bench_compile
 
 Cold: a new process with an empty Taichi offline cache (TI_OFFLINE_CACHE_FILE_PATH
 pointed at a fresh folder): import, build the 2D dam break (dx = 0.02) or the 3D one

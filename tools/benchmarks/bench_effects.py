@@ -1,7 +1,7 @@
 """Benchmark: the cost of each effect, alone and all together.
 
-    python tools/bench_effects.py                 # ~20k fluid particles, f64
-    python tools/bench_effects.py --n 100000 --precision f32
+    python -m tools.benchmarks.bench_effects                 # ~20k fluid particles, f64
+    python -m tools.benchmarks.bench_effects --n 100000 --precision f32
 
 Every row runs the same fluid block (a square lattice, small random velocities) with
 a fixed time step. "fluid only" is the least a weakly compressible fluid needs:
@@ -97,7 +97,8 @@ def measure(extra, n, steps, repeat, precision):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.benchmarks.bench_effects",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--n", type=int, default=20_000, help="fluid particles (default 20000)")
     p.add_argument("--precision", choices=["f32", "f64"], default="f64")
     p.add_argument("--repeat", type=int, default=5)
@@ -106,7 +107,7 @@ def main(argv=None):
     rt = taisph.engine.runtime.init(precision=args.precision)
     print(f"# taisph {taisph.__version__}, taichi {ti.__version__}, {platform.python_version()}, "
           f"{os.cpu_count()} cores, {rt.threads} thread(s), {rt.precision}")
-    print(f"# command: python tools/bench_effects.py {' '.join(sys.argv[1:] if argv is None else argv)}")
+    print(f"# command: python -m tools.benchmarks.bench_effects {' '.join(sys.argv[1:] if argv is None else argv)}")
     print("| added effect | terms compiled in | particles | compile s | ns per fluid particle-step | × fluid only | M fluid particle-steps/s |")
     print("|---|---|---:|---:|---:|---:|---:|")
     steps = max(5, int(args.work / args.n))

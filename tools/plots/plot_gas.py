@@ -1,8 +1,8 @@
 """Profiles of the gas cases against their exact solutions, for docs/gas.md.
 
-    python tools/plot_gas.py                 # docs/sod_profiles.png, docs/sedov_profiles.png
-    python tools/plot_gas.py --sod-left 640 --t-sod 0.15 -o /tmp/sod720   # PySPH's set-up
-    python tools/plot_gas.py --only sedov --sedov-constant-h -o /tmp/const  # the variants in docs/gas.md
+    python -m tools.plots.plot_gas                 # docs/sod_profiles.png, docs/sedov_profiles.png
+    python -m tools.plots.plot_gas --sod-left 640 --t-sod 0.15 -o /tmp/sod720   # PySPH's set-up
+    python -m tools.plots.plot_gas --only sedov --sedov-constant-h -o /tmp/const  # the variants in docs/gas.md
 
 Sod: density, velocity, pressure and internal energy of the tube's particles at t_sod
 (default 0.2, 400 particles on the left half) over the exact Riemann solution, with and
@@ -23,7 +23,7 @@ from taisph.cases.sod import compare, tube
 from taisph.validation.references.riemann import RiemannProblem
 from taisph.validation.references.sedov_taylor import SedovTaylor
 
-DOCS = Path(__file__).resolve().parent.parent / "docs"
+DOCS = Path(__file__).resolve().parents[2] / "docs"
 
 
 def sod_figure(path, left=400, t=0.2):
@@ -104,7 +104,8 @@ def main(argv=None):
     import matplotlib
 
     matplotlib.use("Agg")
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.plots.plot_gas",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--sod-left", type=int, default=400)
     p.add_argument("--t-sod", type=float, default=0.2)
     p.add_argument("--sedov-dx", type=float, default=0.01)

@@ -1,7 +1,7 @@
 """Which integrator x kernel pairs stay stable at which time step, on the seed's scenes.
 
-    python tools/stability.py --json docs/seed_stability.json   # all three scenes (about 40 min on 2 cores)
-    python tools/stability.py --scenes drop_on_incline --json docs/seed_stability.json
+    python -m tools.studies.stability --json docs/seed_stability.json   # all three scenes (about 40 min on 2 cores)
+    python -m tools.studies.stability --scenes drop_on_incline --json docs/seed_stability.json
 
 For every scene, integrator (euler, eulermid, pc) and kernel (spline, gaussian,
 wendland), runs go down a ladder of fixed time steps from the seed's advice (0.001 s).
@@ -11,7 +11,7 @@ A run is **stable** if it reaches t_end with
 * every fluid particle inside the scene's domain (the tank plus one dx), and
 * every density within 10 % of its material's rho0 (|rho/rho0 - 1| <= 0.1),
 
-checked every 0.05 s of simulated time (``taisph.seed.health``); an unstable run
+checked every 0.05 s of simulated time (``taisph.formats.seed.health``); an unstable run
 stops at the first failed check and records when. Going down the ladder stops at the
 first stable step: smaller steps are not run (explicit schemes are assumed to stay
 stable below a stable step; --confirm runs one more step to check that).
@@ -29,7 +29,7 @@ import numpy as np
 
 import taisph
 from taisph.engine.timestep import fixed_dt
-from taisph.seed import health
+from taisph.formats.seed import health
 
 SCENES = {
     # scene: (builder kwargs, t_end) at the tests' resolutions
@@ -57,7 +57,7 @@ def trial(name, kwargs, t_end, integrator, kernel, dt):
     for k in range(1, checks + 1):
         try:
             sim.run(t_end * k / checks, frames=1)
-        except taisph.simulation.SimulationError as err:  # the engine's guards tripped
+        except taisph.run.simulation.SimulationError as err:  # the engine's guards tripped
             problems = err.report["codes"]
             break
         problems = health(sim, box=scene.domain, max_density_deviation=MAX_DENSITY_DEVIATION)
@@ -73,7 +73,8 @@ def trial(name, kwargs, t_end, integrator, kernel, dt):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.studies.stability",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES))
     p.add_argument("--integrators", nargs="+", default=list(INTEGRATORS), choices=list(INTEGRATORS))
     p.add_argument("--kernels", nargs="+", default=list(KERNELS), choices=list(KERNELS))

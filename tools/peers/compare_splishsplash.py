@@ -1,7 +1,8 @@
 """taisph's DFSPH against SPlisHSPlasH's on the 2D dam break, in the same run.
 
-    python tools/bench.py --compare-splishsplash --splishsplash-python /work/peers/splash-venv/bin/python
-    python tools/compare_splishsplash.py --splishsplash-python ... --dx 0.01 --tf 0.2
+    python -m tools.benchmarks.bench --compare-splishsplash --splishsplash-python /path/to/splash-venv/bin/python
+    python -m tools.peers.compare_splishsplash --splishsplash-python ... --dx 0.01 --tf 0.2
+    export TAISPH_SPLISHSPLASH_PYTHON=/path/to/splash-venv/bin/python   # instead of the option
 
 Both simulate the 1 m x 2 m column in the 4 m tank at spacing dx from rest to tf
 (issue 14: dx = 0.01, ~20k fluid particles, tf = 0.2 s) with DFSPH and a 0.1 %
@@ -10,20 +11,42 @@ machine (2 threads each); each figure is wall seconds per simulated second of th
 stepping: taisph's ``Simulation.run`` after its first (compiling) step, and
 SPlisHSPlasH's summed simulation steps ("Time sum: SimStep" of its log; its
 volume-map construction and set-up excluded). SPlisHSPlasH runs in its own Python
-(``--splishsplash-python``; tools/splishsplash_dam_break.py), with the system libGL
-preloaded (``--libgl``). Prints both, their iterations and time steps, and the ratio
-taisph / SPlisHSPlasH (below 1: taisph is faster).
+(``--splishsplash-python``, or the environment variable TAISPH_SPLISHSPLASH_PYTHON: one
+of them is required; tools/peers/splishsplash_dam_break.py), with the system libGL
+preloaded (``--libgl``; default: the environment variable TAISPH_SPLISHSPLASH_LIBGL, else
+the system's libGL by name, e.g. libGL.so.1, which the loader finds in its usual
+folders). Prints both, their iterations and time steps, and the ratio taisph /
+SPlisHSPlasH (below 1: taisph is faster).
 """
 
 import argparse
+import ctypes.util
 import json
 import os
 import subprocess
 import sys
 import time
+from importlib.util import find_spec
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-LIBGL = "/usr/lib/x86_64-linux-gnu/libGL.so.1"
+SPLISHSPLASH_PYTHON_ENV = "TAISPH_SPLISHSPLASH_PYTHON"
+LIBGL_ENV = "TAISPH_SPLISHSPLASH_LIBGL"
+
+
+def splishsplash_python(given=None):
+    """The Python with pysplishsplash: `given` (the command-line option), else
+    $TAISPH_SPLISHSPLASH_PYTHON; exits with a message if neither is set."""
+    python = given or os.environ.get(SPLISHSPLASH_PYTHON_ENV)
+    if not python:
+        sys.exit(f"no Python with pysplishsplash: give --splishsplash-python PATH or set {SPLISHSPLASH_PYTHON_ENV}")
+    return python
+
+
+def default_libgl():
+    """The libGL to preload for SPlisHSPlasH: $TAISPH_SPLISHSPLASH_LIBGL if set ('' for
+    none), else the system's libGL by name (e.g. libGL.so.1), else ''."""
+    if LIBGL_ENV in os.environ:
+        return os.environ[LIBGL_ENV]
+    return ctypes.util.find_library("GL") or ""
 
 
 def run_taisph(dx, tf, precision="f64", tolerance=None):
@@ -50,7 +73,8 @@ def run_taisph(dx, tf, precision="f64", tolerance=None):
     return out
 
 
-def run_splishsplash(python, dx, tf, libgl=LIBGL):
+def run_splishsplash(python, dx, tf, libgl=None):
+    libgl = default_libgl() if libgl is None else libgl
     env = dict(os.environ)
     if libgl:
         env["LD_PRELOAD"] = libgl
@@ -58,7 +82,8 @@ def run_splishsplash(python, dx, tf, libgl=LIBGL):
     # shared 2-core VM, a step took 406 ms instead of 66 (other jobs held the cores)
     env.setdefault("OMP_NUM_THREADS", "2")
     env.setdefault("OMP_WAIT_POLICY", "passive")
-    cmd = [python, os.path.join(HERE, "splishsplash_dam_break.py"), "--dx", str(dx), "--tf", str(tf)]
+    script = find_spec("tools.peers.splishsplash_dam_break").origin  # run as a file: its Python has no taisph
+    cmd = [python, script, "--dx", str(dx), "--tf", str(tf)]
     print(f"# SPlisHSPlasH: LD_PRELOAD={libgl} OMP_NUM_THREADS={env['OMP_NUM_THREADS']} "
           f"OMP_WAIT_POLICY={env['OMP_WAIT_POLICY']} {' '.join(cmd)}", flush=True)
     done = subprocess.run(cmd, capture_output=True, text=True, env=env)
@@ -67,7 +92,7 @@ def run_splishsplash(python, dx, tf, libgl=LIBGL):
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def compare(python, dx=0.01, tf=0.2, precision="f64", libgl=LIBGL, tolerances=(None, 0.001)):
+def compare(python, dx=0.01, tf=0.2, precision="f64", libgl=None, tolerances=(None, 0.001)):
     """Run both (taisph first, at its default tolerance and at SPlisHSPlasH's 0.1 %;
     then SPlisHSPlasH), print the table, return the rows (taisph's first)."""
     rows = [run_taisph(dx, tf, precision, t) for t in tolerances]
@@ -87,16 +112,19 @@ def compare(python, dx=0.01, tf=0.2, precision="f64", libgl=LIBGL, tolerances=(N
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--splishsplash-python", required=True, help="a Python with pysplishsplash installed")
+    p = argparse.ArgumentParser(prog="python -m tools.peers.compare_splishsplash",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--splishsplash-python", default=None,
+                   help=f"a Python with pysplishsplash installed (default ${SPLISHSPLASH_PYTHON_ENV}; one is required)")
     p.add_argument("--dx", type=float, default=0.01)
     p.add_argument("--tf", type=float, default=0.2)
     p.add_argument("--precision", choices=["f32", "f64"], default="f64")
-    p.add_argument("--libgl", default=LIBGL, help="preloaded for SPlisHSPlasH ('' for none)")
+    p.add_argument("--libgl", default=None,
+                   help=f"preloaded for SPlisHSPlasH ('' for none; default ${LIBGL_ENV}, "
+                        "else the system's libGL by name)")
     args = p.parse_args(argv)
-    compare(args.splishsplash_python, args.dx, args.tf, args.precision, args.libgl)
+    compare(splishsplash_python(args.splishsplash_python), args.dx, args.tf, args.precision, args.libgl)
 
 
 if __name__ == "__main__":
-    sys.path.insert(0, os.path.dirname(HERE))
     main()

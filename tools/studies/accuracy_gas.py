@@ -1,9 +1,9 @@
 """Accuracy study of the gas cases: error against the exact solution as a function of
 simulated time, resolution and artificial conductivity, and against wall time.
 
-    python tools/accuracy_gas.py            # docs/accuracy_gas.{csv,md}, docs/accuracy_gas_*.png
-    python tools/accuracy_gas.py --quick    # two resolutions, one repeat, to /tmp (a smoke run)
-    python tools/accuracy_gas.py --choices  # docs/gas_choices.md: one Sod run per set-up choice
+    python -m tools.studies.accuracy_gas            # docs/accuracy_gas.{csv,md}, docs/accuracy_gas_*.png
+    python -m tools.studies.accuracy_gas --quick    # two resolutions, one repeat, to /tmp (a smoke run)
+    python -m tools.studies.accuracy_gas --choices  # docs/gas_choices.md: one Sod run per set-up choice
 
 Sod shock tube (cases/sod.py, Toro test 1, to t = 0.2): error = L1 of the density, the
 mean over the tube's particles of |rho - rho_exact(x)| against taisph.validation.references.riemann (u, p, e
@@ -36,7 +36,7 @@ from taisph.cases.sod import compare, tube
 from taisph.validation.references.riemann import RiemannProblem
 from taisph.validation.references.sedov_taylor import SedovTaylor
 
-DOCS = Path(__file__).resolve().parent.parent / "docs"
+DOCS = Path(__file__).resolve().parents[2] / "docs"
 SOD_LEFT = (100, 200, 400, 800)  # particles on the left half of the tube, dx = 0.5 / n
 SOD_TIMES = (0.05, 0.1, 0.15, 0.2)
 SEDOV_DX = (0.04, 0.02)
@@ -271,7 +271,8 @@ def plots(data, prefix: Path):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.studies.accuracy_gas",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true", help="two resolutions per case, one repeat, output to /tmp")
     p.add_argument("--repeat", type=int, default=3, help="runs per configuration (median wall time)")
     p.add_argument("--out", type=Path, help="output prefix (default docs/accuracy_gas)")
@@ -279,14 +280,14 @@ def main(argv=None):
                    help="instead: one Sod run per set-up choice, table to docs/gas_choices.md")
     args = p.parse_args(argv)
     if args.choices:
-        table = choices_table("python tools/accuracy_gas.py --choices")
+        table = choices_table("python -m tools.studies.accuracy_gas --choices")
         path = args.out or DOCS / "gas_choices.md"
         Path(path).write_text(table + "\n")
         print(table)
         return
     repeat = 1 if args.quick else args.repeat
     prefix = args.out or (Path("/tmp/accuracy_gas") if args.quick else DOCS / "accuracy_gas")
-    command = "python tools/accuracy_gas.py " + " ".join(argv if argv is not None else sys.argv[1:])
+    command = "python -m tools.studies.accuracy_gas " + " ".join(argv if argv is not None else sys.argv[1:])
     data = rows(quick=args.quick, repeat=repeat)
     prefix.parent.mkdir(parents=True, exist_ok=True)
     write_csv(data, f"{prefix}.csv")

@@ -1,6 +1,6 @@
 """Time taisph.geometry.volume_points and surface_points on a sphere mesh.
 
-    python tools/bench_mesh_fill.py [--points 1e6] [--subdivisions 5]
+    python -m tools.benchmarks.bench_mesh_fill [--points 1e6] [--subdivisions 5]
 
 Fills an icosphere (20 * 4**subdivisions triangles, default 20480) with about
 `points` lattice points, read from a binary STL file, and reports the time of each
@@ -16,7 +16,7 @@ from pathlib import Path
 import meshio
 
 from taisph.geometry import surface_points, volume_points
-from taisph.mesh import icosphere, load_surface
+from taisph.geometry.mesh import icosphere, load_surface
 
 
 def best_of(n, func):
@@ -29,7 +29,8 @@ def best_of(n, func):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(prog="python -m tools.benchmarks.bench_mesh_fill",
+                                     description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--points", type=float, default=1e6, help="points to fill (about)")
     parser.add_argument("--subdivisions", type=int, default=5, help="icosphere subdivisions")
     args = parser.parse_args()

@@ -1,7 +1,7 @@
 """Cost per fluid particle-step of the flagship 2D dam break at several sizes, timed over
 the same simulated interval, so that every size is measured in the same flow state.
 
-`tools/bench.py` gives every size the same number of particle-steps per block; the small
+`tools/benchmarks/bench.py` gives every size the same number of particle-steps per block; the small
 case then steps far into the collapse while the large one barely leaves rest, and a step
 of moving water costs more than one of still water (the artificial viscosity acts on
 approaching pairs only). Here every size is first advanced to `--t-start` (untimed; the
@@ -13,11 +13,11 @@ the cache after changing the case's defaults). Each round prints ns per fluid
 particle-step for every size and each size's ratio to the largest; the summary gives
 the best round of each size and the median of the per-round ratios.
 
-    python tools/bench_flatness.py                       # 20k, 100k, 1M; t = 0.1 -> 0.11 s
-    python tools/bench_flatness.py --sizes 20000 100000 --t-start 0.05 --interval 0.02
-    python tools/bench_flatness.py --reference           # the hand-fused loop's flatness too
+    python -m tools.benchmarks.bench_flatness                       # 20k, 100k, 1M; t = 0.1 -> 0.11 s
+    python -m tools.benchmarks.bench_flatness --sizes 20000 100000 --t-start 0.05 --interval 0.02
+    python -m tools.benchmarks.bench_flatness --reference           # the hand-fused loop's flatness too
 
-With ``--reference`` the hand-fused loop of ``tools/bench_reference.py`` starts from each
+With ``--reference`` the hand-fused loop of ``tools/benchmarks/bench_reference.py`` starts from each
 size's state and, in every round, runs as many steps as the engine just took: its own
 flatness, in the same minutes, is what this machine allows a loop of this physics.
 """
@@ -25,16 +25,13 @@ flatness, in the same minutes, is what this machine allows a loop of this physic
 import argparse
 import math
 import statistics
-import sys
 import time
 from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import taichi as ti
 
 import taisph
-from bench_reference import flagship, setup as reference_setup
+from tools.benchmarks.bench_reference import flagship, setup as reference_setup
 
 
 def prepared(n_fluid: int, t_start: float, cache: Path, threads):
@@ -57,7 +54,8 @@ def prepared(n_fluid: int, t_start: float, cache: Path, threads):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.benchmarks.bench_flatness",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--sizes", type=int, nargs="+", default=[20_000, 100_000, 1_000_000],
                    help="fluid particles (dx = sqrt(2 / n))")
     p.add_argument("--t-start", type=float, default=0.1, help="simulated time where timing starts (s)")
@@ -67,7 +65,7 @@ def main(argv=None):
     p.add_argument("--cache", type=Path, default=Path("bench_flatness_cache"),
                    help="folder for the checkpoints at t-start")
     p.add_argument("--reference", action="store_true",
-                   help="also time the hand-fused reference (tools/bench_reference.py) from each size's "
+                   help="also time the hand-fused reference (tools/benchmarks/bench_reference.py) from each size's "
                         "state, as many steps as the engine took, right after it")
     args = p.parse_args(argv)
     taisph.engine.runtime.init(threads=args.threads)

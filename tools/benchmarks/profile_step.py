@@ -1,13 +1,13 @@
 """Where the engine's step spends its time: Taichi's kernel profiler on the flagship 2D dam break.
 
-    python tools/profile_step.py 20000 300     # fluid particles, steps (after as many to warm up)
+    python -m tools.benchmarks.profile_step 20000 300     # fluid particles, steps (after as many to warm up)
 
 Builds ``bench_reference.flagship(2, dx)`` with dx = sqrt(2 / N) (the bench's sizes),
 steps it N steps to compile and warm up, then profiles the next N steps and prints the
 wall time per step, ns per fluid particle-step and Taichi's table of offloaded tasks
 (one row per parallel or serial loop of a kernel: the sort kernel's loops, the dummy
 walls' pressure pass, the force pass). Kernel names are Taichi's; the largest row is the
-force pass. Below ``taisph.simulation.SERIAL_SORT_BELOW`` particles the sort kernel runs
+force pass. Below ``taisph.run.simulation.SERIAL_SORT_BELOW`` particles the sort kernel runs
 as one serial task.
 """
 
@@ -21,7 +21,7 @@ os.environ["TAISPH_PROFILE"] = "1"  # before taisph starts Taichi: kernel_profil
 import taichi as ti  # noqa: E402
 
 import taisph  # noqa: E402
-from bench_reference import flagship  # noqa: E402
+from tools.benchmarks.bench_reference import flagship  # noqa: E402
 
 
 def main(argv=None):

@@ -1,8 +1,8 @@
 """Plot a run's probes (OUT/probes.csv) against time: one panel per probe kind.
 
-    python tools/plot_probes.py OUT                     # OUT/probes.png
-    python tools/plot_probes.py OUT --buchner           # P1/P2 over Buchner's (2002) measurements
-    python tools/plot_probes.py OUT -o fig.png --only P1,P2
+    python -m tools.plots.plot_probes OUT                     # OUT/probes.png
+    python -m tools.plots.plot_probes OUT --buchner           # P1/P2 over Buchner's (2002) measurements
+    python -m tools.plots.plot_probes OUT -o fig.png --only P1,P2
 
 Pressures are in Pa, elevations in m, forces in N (one line per component), against
 t in s. With --buchner (the 2D dam break of cases/dam_break_probes_2d.toml) pressure
@@ -37,7 +37,7 @@ def kinds(columns):
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+    parser = argparse.ArgumentParser(prog="python -m tools.plots.plot_probes", description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
     parser.add_argument("out", type=Path, help="a run's output folder (with probes.csv), or the CSV itself")
     parser.add_argument("-o", "--output", type=Path, help="image to write (default: OUT/probes.png)")

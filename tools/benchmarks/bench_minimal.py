@@ -1,7 +1,7 @@
 """Reference point: a minimal fused SPH force loop, outside taisph, on this machine.
 
-    python tools/bench_minimal.py field     # Taichi fields
-    python tools/bench_minimal.py nd        # Taichi ndarrays (what taisph uses)
+    python -m tools.benchmarks.bench_minimal field     # Taichi fields
+    python -m tools.benchmarks.bench_minimal nd        # Taichi ndarrays (what taisph uses)
 
 One parallel loop over 141 x 141 = 19,881 particles pre-sorted by cell in a periodic
 unit box: cubic spline gradient, pressure and continuity sums, per-particle P/rho^2
@@ -14,7 +14,7 @@ import sys
 
 import taichi as ti
 
-from bare_loop import best_time, make_pair, sorted_lattice
+from tools.benchmarks.bare_loop import best_time, make_pair, sorted_lattice
 
 mode = sys.argv[1] if len(sys.argv) > 1 else "nd"
 ti.init(arch=ti.cpu, default_fp=ti.f64)

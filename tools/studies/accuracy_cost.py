@@ -1,11 +1,11 @@
 """Work-precision study: what each choice buys in accuracy and costs in wall time.
 
-    python tools/accuracy_cost.py                  # full study (< 30 min on 2 cores), writes docs/accuracy/
-    python tools/accuracy_cost.py --quick --out /tmp/study   # CI: dam_break and poiseuille, small sizes
-    python tools/accuracy_cost.py --cases poiseuille couette --out /tmp/study
-    python tools/accuracy_cost.py --cases dam_break hydrostatic_tank couette --only DFSPH "WCSPH default" --out docs/accuracy/dfsph
-    python tools/accuracy_cost.py --workers 2                  # two runs at a time on this machine
-    python tools/accuracy_cost.py --scheduler tcp://host:8786   # spread over a Dask cluster (docs/sweeps.md)
+    python -m tools.studies.accuracy_cost                  # full study (< 30 min on 2 cores), writes docs/accuracy/
+    python -m tools.studies.accuracy_cost --quick --out /tmp/study   # CI: dam_break and poiseuille, small sizes
+    python -m tools.studies.accuracy_cost --cases poiseuille couette --out /tmp/study
+    python -m tools.studies.accuracy_cost --cases dam_break hydrostatic_tank couette --only DFSPH "WCSPH default" --out docs/accuracy/dfsph
+    python -m tools.studies.accuracy_cost --workers 2                  # two runs at a time on this machine
+    python -m tools.studies.accuracy_cost --scheduler tcp://host:8786   # spread over a Dask cluster (docs/sweeps.md)
 
 The study itself (cases, configurations, resolutions, the CSV, table and plots it
 writes; its runs are tasks of taisph's sweeps on Dask) is
@@ -18,15 +18,14 @@ import argparse
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:  # run from a source checkout without installing
-    sys.path.insert(0, str(ROOT))
+ROOT = Path(__file__).resolve().parents[2]  # the repository
 
 from taisph.validation import accuracy_cost  # noqa: E402
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python -m tools.studies.accuracy_cost",
+                                description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true", help="CI mode: dam_break and poiseuille, 2 configurations, small sizes")
     p.add_argument("--cases", nargs="+", choices=list(accuracy_cost.STUDY),
                    help="cases to run (default: all; --quick: dam_break, poiseuille)")
@@ -43,7 +42,8 @@ def main(argv=None):
                    help="only the configurations whose label contains one of these words (e.g. DFSPH 'WCSPH default')")
     args = p.parse_args(argv)
 
-    command = "python tools/accuracy_cost.py" + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip()
+    command = ("python -m tools.studies.accuracy_cost"
+               + (" " + " ".join(argv if argv is not None else sys.argv[1:])).rstrip())
     return accuracy_cost.run_study(args.out, cases=args.cases, quick=args.quick, repeat=args.repeat, command=command,
                                    workers=args.workers, scheduler=args.scheduler, threads=args.threads,
                                    only=args.only)

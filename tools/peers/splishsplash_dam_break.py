@@ -1,7 +1,7 @@
 """SPlisHSPlasH's DFSPH on taisph's 2D dam break: run in a Python with ``pysplishsplash``.
 
-    LD_PRELOAD=/usr/lib/x86_64-linux-gnu/libGL.so.1 /path/to/splash-venv/bin/python \
-        tools/splishsplash_dam_break.py --dx 0.01 --tf 0.2
+    LD_PRELOAD=libGL.so.1 /path/to/splash-venv/bin/python \
+        -m tools.peers.splishsplash_dam_break --dx 0.01 --tf 0.2      # from the repository root
 
 Writes a 2D scene (``"sim2D": true``): the 1 m x 2 m water column at the left wall of
 a 4 m x 4 m tank (SPlisHSPlasH's UnitBox.obj scaled (4, 4, 1) and translated
@@ -10,8 +10,8 @@ maxError = maxErrorV = 0.1 %, volume-map boundaries (boundaryHandlingMethod 2),
 CFL (cflMethod 1, factor 1, step at most 0.005 s), standard viscosity 0.01; runs it
 headless to tf and prints one JSON line from its log (``log/SPH_log.txt``): fluid
 particles, steps, the mean time step, the summed simulation-step time ("Time sum:
-SimStep") and the wall time of the run. Used by ``tools/bench.py --compare-splishsplash``
-(tools/compare_splishsplash.py); SPlisHSPlasH is not a taisph dependency.
+SimStep") and the wall time of the run. Used by ``python -m tools.benchmarks.bench --compare-splishsplash``
+(tools/peers/compare_splishsplash.py, which runs this file by its path); SPlisHSPlasH is not a taisph dependency.
 """
 
 import argparse
@@ -53,7 +53,8 @@ def read_log(path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(prog="python -m tools.peers.splishsplash_dam_break",
+                                 description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dx", type=float, default=0.01)
     ap.add_argument("--tf", type=float, default=0.2)
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")

@@ -1,6 +1,7 @@
 """Shared pieces of the bare-loop benchmarks (bench_minimal.py, bench_minimal_3d.py,
-bench_levers.py): a cell-sorted lattice in a periodic unit box, the pair sums they all
-time (cubic spline gradient, pressure and continuity only), and the timer.
+bench_levers.py; they import it as tools.benchmarks.bare_loop): a cell-sorted lattice
+in a periodic unit box, the pair sums they all time (cubic spline gradient, pressure
+and continuity only), and the timer.
 
 Not part of taisph: these loops are the floor taisph's force pass is compared with in
 docs/performance.md.

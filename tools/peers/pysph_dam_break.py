@@ -1,9 +1,12 @@
 """Run PySPH's dam_break_2d example at a chosen spacing and report its throughput.
 
 Not part of taisph: run it with a Python that has PySPH installed
-(`pip install pysph`, about 4 minutes to build). tools/bench.py --compare calls it.
+(`pip install pysph`, about 4 minutes to build). ``python -m tools.benchmarks.bench --compare``
+calls it (by this file's path).
 
-    /path/to/pysph-venv/bin/python tools/pysph_dam_break.py --dx 0.01 --tf 0.05 --openmp
+    /path/to/pysph-venv/bin/python -m tools.peers.pysph_dam_break --dx 0.01 --tf 0.05 --openmp
+
+(from the repository root; it imports nothing from taisph or the rest of tools/).
 
 PySPH's example changes the spacing with --dx but keeps its particle mass and
 smoothing length at the dx = 0.03 values; this wrapper sets both from --dx (m = rho0
@@ -33,7 +36,7 @@ def run(dx, tf, extra):
 def main():
     import argparse
 
-    p = argparse.ArgumentParser()
+    p = argparse.ArgumentParser(prog="python -m tools.peers.pysph_dam_break")
     p.add_argument("--dx", type=float, default=0.03)
     p.add_argument("--tf", type=float, default=0.05)
     args, extra = p.parse_known_args()

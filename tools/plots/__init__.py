@@ -1,0 +1,1 @@
+"""Figures: ``python -m tools.plots.NAME`` from the repository root (needs matplotlib)."""
