@@ -199,3 +199,91 @@ def test_deterministic_runs_agree_bit_for_bit():
     assert runs_[0][0] == runs_[1][0]
     np.testing.assert_array_equal(runs_[0][1], runs_[1][1])
     np.testing.assert_array_equal(runs_[0][2], runs_[1][2])
+
+
+def test_a_force_probe_reads_the_pressure_force_of_dfsph():
+    """Issue 25 (1): a force probe under DFSPH sums the pressure force the fluid exerts on
+    the walls from the solve's pressures (p_wall = p_i and the walls' hydrostatic head, as in
+    DFSPH's momentum equation; it read 0 before). Still water (dx = 0.05, 0.3 s, sampled every
+    step after the first 0.1 s): the force on the whole tank is the water's weight M g within
+    1 % vertically (measured 0.3 % at worst) and has no horizontal part (below 1e-9 M g;
+    measured 4e-15: the tank is symmetric)."""
+    from taisph.probes import Probes, force
+
+    scene = dfsph_scene("hydrostatic_tank", dx=0.05)
+    sim = taisph.Simulation(scene, deterministic=True)
+    sim.run(0.1, frames=1)
+    probes = Probes([force("F", walls="tank")], walls={"tank": np.flatnonzero(scene.kind == taisph.WALL)})
+    sim.run(0.3, frames=1, writers=[probes])
+    weight = sim.total_mass() * 9.81
+    sim.close()
+    _, F = probes.series("F")
+    assert len(F) > 10
+    print(f"force/weight - 1: {np.abs(-F[:, 1] / weight - 1).max():.2e}, max |F_x|/weight {np.abs(F[:, 0]).max() / weight:.1e}")
+    assert np.all(np.abs(-F[:, 1] / weight - 1) < 0.01), F[:, 1] / weight
+    assert np.all(np.abs(F[:, 0]) < 1e-9 * weight), F[:, 0] / weight
+
+
+def test_a_dfsph_force_probe_is_the_force_the_fluid_feels():
+    """Newton under DFSPH (symplectic Euler: a sample is the rate of the step from its
+    time to the next): a dam break without wall friction (dx = 0.05, to 0.3 s, sampled every
+    step) changes the fluid's momentum by the sum over steps of dt (M g - F), F the force
+    probe on the tank, to 1e-9 of M g T (measured ~1e-14 per step). With wall friction the
+    walls' artificial viscosity also acts, which force probes leave out (as under WCSPH)."""
+    from taisph.probes import Probes, force
+
+    scene = dfsph_scene(dx=0.05, wall_friction=False)
+    sim = taisph.Simulation(scene, deterministic=True)
+    sim.step(1)  # the bootstrap's sample (t = 0) holds the warm start, not the first solve
+    momentum0, t0, mass = sim.momentum(), sim.time, sim.total_mass()
+    probes = Probes([force("F", walls="tank")], walls={"tank": np.flatnonzero(scene.kind == taisph.WALL)})
+    sim.run(0.3, frames=1, writers=[probes])
+    change = sim.momentum() - momentum0
+    sim.close()
+    times, F = probes.series("F")
+    assert times[0] == pytest.approx(t0, abs=1e-12) and len(times) == sim.steps - 1
+    dt = np.diff(np.append(times, sim.time))
+    expected = (dt[:, None] * (mass * np.array([0.0, -9.81]) - F)).sum(axis=0)
+    assert np.all(np.abs(change - expected) < 1e-9 * mass * 9.81 * (sim.time - t0)), (change, expected)
+    assert np.ptp(F[:, 1]) > 0.1 * mass * 9.81  # a real test: the force varies (the surge hits the wall)
+
+
+def test_the_header_and_effects_say_what_dfsph_runs():
+    """Issue 25 (2): DFSPH integrates with symplectic Euler whatever the scene's integrator
+    (the cases default to pc): the header says the scene's integrator is not used, and
+    ``sim.effects()`` lists the terms that run (DFSPH's kept ones), not those it replaced."""
+    scene = dfsph_scene(dx=0.1)
+    scene.integrator = "euler"
+    assert "symplectic Euler; the scene's integrator euler is not used" in scene.describe()
+    assert "the scene's integrator pc is not used" in dfsph_scene(dx=0.1).describe()
+    sim = taisph.Simulation(scene)
+    kept = [t.name for t in taisph.scene.solvers.dfsph_kept_terms(scene)]
+    assert sim.effects() == kept and "gravity" in kept
+    assert not {"continuity", "pressure", "dummy_walls", "density_diffusion"} & set(sim.effects())
+    sim.close()
+    wcsph = taisph.Simulation(taisph.cases.dam_break(dx=0.1))
+    assert wcsph.effects() == [t.name for t in wcsph.scene.terms]
+    wcsph.close()
+
+
+def test_each_simulation_counts_its_own_solves():
+    """Issue 25 (3): DFSPH's statistics belong to the simulation, not to the pooled fields
+    it runs on: a second dam break (dx = 0.1, deterministic) on pooled fields
+    reports the same iterations and host reads as the first, not their sum (nor those of
+    whichever simulation used the fields before)."""
+    def run():
+        sim = taisph.Simulation(dfsph_scene(dx=0.1), deterministic=True)
+        summary = sim.run(0.02, frames=1)
+        sim.step(3)
+        stats = dict(vars(sim.pressure_solve.stats))
+        fields = sim.state.fields
+        sim.close()
+        return stats, summary.pressure_solve, fields
+
+    first, summary1, fields1 = run()
+    pooled = list(fields1.solver.field_sets)
+    second, summary2, fields2 = run()
+    assert any(fields2 is f for f in pooled)  # pooled fields were reused: the case the defect needs
+    assert first["density_iterations"] > 0 and first["round_trips"] > 0
+    assert second == first
+    assert summary2 == summary1

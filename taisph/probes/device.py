@@ -18,7 +18,12 @@ of the thread pool), computes
 
   with a_f<-w exactly what that term's ``pair(f, w)`` adds to ``dv_f/dt`` in the force
   pass; F = sum_w F_w over the group (atomic adds: the last bits of F depend on the
-  thread order).
+  thread order). Under DFSPH, which replaces those terms by its pressure solves
+  (:mod:`taisph.engine.dfsph.solver`), a_f<-w is the wall's share of DFSPH's momentum
+  equation with the step's pressures (k = kappa + kappa_v = p / rho^2, both solves'; the
+  wall mirrors p_f and adds its hydrostatic head, p_w = p_f + rho_f g . (x_w - x_f)):
+
+      a_f<-w = - (phi k_f - g . r_fw / rho_f) m_w grad_f W_fw,    phi = WALL_MIRROR (2).
 
 Inputs go in through the auxiliary kernel's two ndarray arguments, which this module
 allocates once per :class:`Sampler`:
@@ -42,6 +47,7 @@ import numpy as np
 import taichi as ti
 
 from ..engine import status as st
+from ..engine.dfsph.kernels import WALL_MIRROR
 from ..engine.layout import FLUID, VARIABLE_H, WALL
 from ..messages import InputError
 
@@ -70,6 +76,8 @@ def _body(solver):
     rows = solver.param_rows
     p_inv_h, p_w_norm, p_grad_norm, p_support2 = (rows[k] for k in ("inv_h", "w_norm", "grad_norm", "support2"))
     force_terms = [t for t in solver.terms if t.name in FORCE_TERMS and t.has_pair]
+    dfsph = solver.dfsph  # its pressure force on a wall: dfsph_pressure_force
+    p_gravity = rows.get("gravity", -1)
     Rates = solver.Rates
     ACTIVE, PHI, PI = dim, dim + 1, dim + 2  # columns of a point's row
 
@@ -94,9 +102,21 @@ def _body(solver):
         s.aux_real[k, PI] = pi
 
     @ti.func
+    def dfsph_pressure_force(s: ti.template(), f, w, rfw, grad):
+        """a_f<-w of DFSPH (the module's docstring): the step's pressures of the sorted
+        state (both solves', as in the pressure written at the end of a step), the wall's
+        mirrored pressure and hydrostatic head (engine/dfsph/kernels.py, visitors.py)."""
+        coef = s.Ss[q.mass, w] * grad
+        share = WALL_MIRROR * (s.Ss[q.kappa, f] + s.Ss[q.kappa_v, f])
+        if ti.static(p_gravity >= 0):
+            g = ti.Vector([s.params[p_gravity + d] for d in ti.static(range(dim))])
+            share -= g.dot(rfw) / s.Ss[q.density, f]
+        return -share * coef
+
+    @ti.func
     def wall_force(s: ti.template(), w, support2):
-        """Minus the pressure terms' accelerations of w's fluid neighbours due to w,
-        times their masses: the force of the fluid on wall particle w."""
+        """Minus the pressure terms' (DFSPH: its pressure's) accelerations of w's fluid
+        neighbours due to w, times their masses: the force of the fluid on wall particle w."""
         xw = s.Sv[q.position, w]
         force = ti.Vector.zero(real, dim)
         c = grid.coords(s, xw)
@@ -110,6 +130,8 @@ def _body(solver):
                         dist = ti.sqrt(r2)
                         grad = (s.params[p_grad_norm] * kern.g(dist * s.params[p_inv_h])) * rfw
                         rates = Rates(acc=ti.Vector.zero(real, dim))
+                        if ti.static(dfsph):
+                            rates.acc = dfsph_pressure_force(s, f, w, rfw, grad)
                         for t in ti.static(force_terms):
                             t.pair(s, f, w, rfw, dist, grad, rates)
                         force -= s.Ss[q.mass, f] * rates.acc

@@ -69,7 +69,7 @@ class Simulation:
         self.controls = timestep.controls_for(scene, **controls)
         self.serial_sort = self.n < SERIAL_SORT_BELOW or self.controls.deterministic
         self._step_writers, self._launched = (), 0  # writers called every k steps (run)
-        self._warned_dt = False
+        self._warned_dt, self._solve_stats = False, None  # DFSPH: this simulation's solve statistics
         self._snapshot_key = None
         self.time, self.steps, self._dt_last, self._dt_stable = 0.0, 0, 0.0, math.inf
         self.state = State(scene, self.solver, self.runtime, _restore.grid if _restore is not None else None)
@@ -92,6 +92,8 @@ class Simulation:
     def _upload_parameters(self, dt=None):
         self._snapshot_key = None  # e.g. a new c0 changes the pressure of the same state
         self.state.upload_parameters(self.scene, self.controls, dt)
+        if self.solver.dfsph:  # the stepper is cached with the (pooled, maybe new) fields: bind ours
+            self._solve_stats = self.pressure_solve.bind(self._solve_stats)
 
     def close(self):
         """Free the Taichi arrays now (they are also freed when the object is dropped)."""
@@ -273,16 +275,14 @@ class Simulation:
                           str(frame_writer.folder) if frame_writer else None, dt_min, dt_mean, dt_max,
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
-                          fluid_mass, removed_mass, self.pressure_solve.stats.summary() if self.solver.dfsph else None,
+                          fluid_mass, removed_mass, self._solve_stats.summary() if self.solver.dfsph else None,
                           self.state.read_flag(st.OUT_OF_RANGE_COUNT), frame_writer.removed if frame_writer else 0)
 
     @property
     def pressure_solve(self):
-        """DFSPH's stepper (:class:`taisph.engine.dfsph.solver.Stepper`): its ``stats`` hold the
-        iterations and errors of the solves; None for WCSPH."""
-        if not self.solver.dfsph:
-            return None
-        return self.state.step_kernels(self.serial_sort)[0]
+        """DFSPH's stepper (:class:`taisph.engine.dfsph.solver.Stepper`; ``stats``: this simulation's
+        solves); None for WCSPH."""
+        return self.state.step_kernels(self.serial_sort)[0] if self.solver.dfsph else None
 
     def device_time(self) -> float:
         """The simulated time on the device now (``time`` is the host's copy, refreshed
@@ -383,8 +383,8 @@ class Simulation:
         return self.state.bytes_per_particle()
 
     def effects(self) -> list:
-        """Names of the terms compiled into this simulation's kernels."""
-        return [t.name for t in self.scene.terms]
+        """Names of the terms compiled into this simulation's kernels (DFSPH: those it keeps)."""
+        return [t.name for t in self.solver.active_terms(self.scene)]
 
     def total_mass(self) -> float:
         return float(self.masses()[self.fluid].sum())

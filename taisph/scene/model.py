@@ -358,7 +358,10 @@ class Scene:
 
     def describe(self) -> str:
         if self.solver == "dfsph":
-            numerics = "solver dfsph (incompressible: pressure solve, symplectic Euler)"
+            # DFSPH's step integrates with symplectic Euler whatever the scene's integrator (the
+            # cases' default is pc, so refusing another would refuse them all): the header says so
+            numerics = (f"solver dfsph (incompressible: pressure solve, symplectic Euler; the scene's "
+                        f"integrator {self.integrator} is not used)")
             kept = dfsph_kept_terms(self)
             replaced = [t.name for t in self.terms if t not in kept]
             effects = ", ".join(["DFSPH pressure" + (f" (in place of {', '.join(replaced)})" if replaced else "")]

@@ -199,8 +199,9 @@ def artificial_viscosity_nu(scene) -> float:
 # --- the host side -----------------------------------------------------------------------
 @dataclass
 class Stats:
-    """Iterations and errors of the solves: totals since the simulation started, and
-    the window of the current run (:meth:`Stepper.begin_window`)."""
+    """Iterations and errors of the solves: totals since the simulation started (each
+    simulation has its own: :meth:`Stepper.bind`), and the window of the current run
+    (:meth:`Stepper.begin_window`)."""
 
     steps: int = 0  # steps with dt > 0
     density_iterations: int = 0
@@ -246,7 +247,14 @@ class Stepper:
         self.density_iteration = make(bodies.iteration(density=True))(args)
         self.final = make(bodies.final())(args)
         self.status, self.result = args.status, fields.extra.result
-        self.stats = Stats()
+        self.stats = Stats()  # the simulation's (bind): the stepper is cached with its pooled fields
+
+    def bind(self, stats: Stats | None) -> Stats:
+        """Record the solves into `stats` from now on (None: fresh ones) and return them:
+        a simulation binds its own when it takes these fields, which are pooled and reused
+        by the next simulation of the configuration (:mod:`taisph.engine.fields`)."""
+        self.stats = Stats() if stats is None else stats
+        return self.stats
 
     def begin_window(self):
         s = self.stats
