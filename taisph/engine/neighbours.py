@@ -64,7 +64,7 @@ class GridLayout(collections.namedtuple("GridLayout", "lo cell shape")):
 
     @property
     def n_cells(self) -> int:
-        return int(np.prod(self.shape))
+        return math.prod(int(n) for n in self.shape)  # Python's ints: np.prod of int64 wraps around
 
 
 def ball_volume(radius: float, dim: int) -> float:
@@ -99,6 +99,20 @@ def layout_grid(domain, periodic, support, positions) -> GridLayout:
             lo[d], cell[d] = a, support
             shape.append(max(1, int(math.ceil((b - a) / support - 1e-9))))
     return GridLayout(lo=lo, cell=cell, shape=tuple(shape))
+
+
+def grid_cells(lo, hi, support: float):
+    """The cells of :func:`layout_grid`'s grid over particles in `lo` .. `hi` (no periodic axis): a Python int."""
+    spans = [(float(b) - float(a)) / support + 2.0 for a, b in zip(lo, hi)]
+    return math.prod(max(1, math.ceil(v - 1e-9)) for v in spans) if all(map(math.isfinite, spans)) else math.inf
+
+
+def grid_problem(n_cells, n_particles: int, support: float) -> str:
+    """'' if `n_cells` grid cells are in proportion to `n_particles`, else what is wrong (the readers' check too)."""
+    if n_cells <= (allowed := MAX_CELLS_PER_PARTICLE * n_particles + 4096):
+        return ""
+    return (f"the neighbour grid would need {n_cells:.3g} cells of {support:g} m for {n_particles} particles (at most "
+            f"{allowed}): the domain is too large for the smoothing length")
 
 
 PARAMS = (  # runtime parameters, name and width ("dim": one per axis)

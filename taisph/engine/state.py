@@ -117,13 +117,9 @@ class State:
             field.from_numpy(self._padded(np.ascontiguousarray(data)))
 
     def _check_grid(self, scene, grid):
-        n_cells = grid.n_cells
-        if n_cells > neighbours.MAX_CELLS_PER_PARTICLE * self.n + 4096:
-            raise InputError(
-                f"the neighbour grid would need {n_cells} cells of {scene.support_radius:g} m for {self.n} "
-                f"particles (domain {scene.domain[0]} .. {scene.domain[1]}); the domain is too large for the "
-                "smoothing length"
-            )
+        problem = neighbours.grid_problem(grid.n_cells, self.n, float(np.max(grid.cell)))
+        if problem:
+            raise InputError(f"scene {scene.name!r}: {problem} (domain {scene.domain[0]} .. {scene.domain[1]})")
 
     def _write_sizes(self):
         shape = self.grid.shape

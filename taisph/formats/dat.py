@@ -31,12 +31,14 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..messages import InputError
+from ..scene.parameters import particle_mass, position_component, reference_density, velocity_component
 
 COLUMNS = {
     2: ("index", "x", "y", "u", "v", "mass", "density", "pressure", "energy"),
@@ -81,6 +83,19 @@ class ParticleData:
         return len(self.mass)
 
 
+# Lines end at \n, \r\n or \r, as editors, grep -n and Python's text mode count them (not at
+# the other breaks of str.splitlines: \x0b, \x0c, \x1c-\x1e, \x85, U+2028, U+2029); values are
+# separated by spaces and tabs (and Unicode spaces); any other control character (or a line or
+# paragraph separator) is part of a token, a bad one
+_LINE_END = re.compile(r"\r\n|\r|\n")
+_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f\u2028\u2029]")
+_SEPARATOR = re.compile("[^\\S\x00-\x08\x0a-\x1f\x7f-\x9f\u2028\u2029]+")
+# Bounds of the values of a particle line (taisph.scene.parameters' shared ranges): beyond them
+# a scene's sizes overflow (h^(dim+2) of a mass of 1e300) or its scales are absurd
+_BOUNDS = {"position": position_component, "velocity": velocity_component, "mass": particle_mass,
+           "density": reference_density}
+
+
 def _columns_text(dim: int) -> str:
     return f"{len(COLUMNS[dim])} columns ({dim}D: {' '.join(COLUMNS[dim])})"
 
@@ -121,8 +136,16 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
         text = raw.decode("utf-8")
     except UnicodeDecodeError as err:
         raise SeedFileError(path, f"is not a text file (byte {err.start} is not UTF-8)") from None
-    lines = [(k + 1, line.split()) for k, line in enumerate(text.splitlines())]
-    lines = [(k, tokens) for k, tokens in lines if tokens]
+    lines = []
+    for k, line in enumerate(_LINE_END.split(text), start=1):
+        tokens = [t for t in _SEPARATOR.split(line) if t]
+        for c, tok in enumerate(tokens):
+            bad = _CONTROL.search(tok)
+            if bad:
+                raise SeedFileError(path, f"column {c + 1} is {tok!r}, which holds the control character "
+                                          f"U+{ord(bad[0]):04X}; a line holds numbers separated by spaces or tabs", k)
+        if tokens:
+            lines.append((k, tokens))
     if not lines:
         raise SeedFileError(path, f"the {what} is empty; its first line must be the particle count")
 
@@ -197,12 +220,12 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
     if not_whole.any():
         r = int(np.flatnonzero(not_whole)[0])
         raise SeedFileError(path, f"column 1 (index) is {rows[r][0]!r}, not a whole number", int(line_of[r]))
-    index = index.astype(np.int64)
-    out_of_range = (index < 0) | (index >= count)
+    out_of_range = (index < 0) | (index >= count)  # (before the cast: 1e19 has no int64)
     if out_of_range.any():
         r = int(np.flatnonzero(out_of_range)[0])
         raise SeedFileError(path, f"index {rows[r][0]} is out of range: with {count} particle(s) the indices "
                                   f"run from 0 to {count - 1}", int(line_of[r]))
+    index = index.astype(np.int64)
     order = np.argsort(index, kind="stable")
     dup = np.flatnonzero(index[order][1:] == index[order][:-1])
     if dup.size:
@@ -217,6 +240,19 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
         if bad.size:
             r = int(bad[0])
             raise SeedFileError(path, f"column {c + 1} ({name}) is {rows[r][c]}; it must be > 0", int(line_of[r]))
+
+    for k, name in enumerate(names):  # magnitudes (the first bad value in file order)
+        kind = {"x": "position", "y": "position", "z": "position", "u": "velocity", "v": "velocity",
+                "w": "velocity"}.get(name, name)
+        rng = _BOUNDS.get(kind)
+        if rng is None:
+            continue
+        bad = np.flatnonzero(~((data[:, k] >= rng.low) & (data[:, k] <= rng.high)))
+        if bad.size:
+            r = int(bad[0])
+            raise SeedFileError(path, f"column {k + 1} ({name}) is {rows[r][k]!r}; a particle's {kind} "
+                                      f"{'component ' if kind in ('position', 'velocity') else ''}must be "
+                                      f"{rng.describe()}", int(line_of[r]))
 
     data = data[order]
     col = {name: k for k, name in enumerate(names)}

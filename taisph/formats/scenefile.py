@@ -92,11 +92,70 @@ def build(spec: SceneSpec):
         scene.add_fluid(points, material=block.material, velocity=block.velocity, density=density)
     groups, notes = {}, []
     for block in spec.walls:
-        groups[block.name] = scene.add_walls(_wall_points(spec, block))
+        points = _wall_points(spec, block)
+        if len(points) == 0:
+            raise SceneFileError(f"{spec.path}: {block.key}.{block.shape} = {block.value!r}: no wall particle fits "
+                                 f"in it at dx = {dx:g} (it is thinner than the wall lattice); make it larger or dx "
+                                 "smaller")
+        groups[block.name] = scene.add_walls(points)
         notes.append(_wall_note(spec, block, groups[block.name], removed.get(block.name, 0)))
+    _check_grid(spec, scene)
+    _validate(spec, scene)
     settings = RunSettings(spec.t_end, spec.frames, spec.solver, spec.courant, list(spec.probes), groups, spec.path,
                            notes)
     return scene, settings
+
+
+def _check_grid(spec, scene):
+    """Refuse a domain whose neighbour grid would be out of proportion to the particles
+    (:func:`taisph.engine.neighbours.grid_problem`, the check the engine makes), naming
+    `domain` or, for the default domain, the block farthest from the others."""
+    from ..engine.neighbours import grid_cells, grid_problem
+
+    lo = np.minimum(scene.domain[0], scene.position.min(axis=0))
+    hi = np.maximum(scene.domain[1], scene.position.max(axis=0))
+    problem = grid_problem(grid_cells(lo, hi, scene.support_radius), scene.n, scene.support_radius)
+    if not problem:
+        return
+    if spec.domain is not None:
+        key, value = "domain", [list(spec.domain[0]), list(spec.domain[1])]
+    else:
+        blocks = spec.fluid + spec.walls
+        centres = np.array([0.5 * (np.asarray(b.bounds[0]) + np.asarray(b.bounds[1])) for b in blocks])
+        far = blocks[int(np.argmax(np.linalg.norm(centres - np.median(centres, axis=0), axis=1)))]
+        key, value = f"{far.key}.{far.shape}", far.value
+        problem += " (the domain is the box around all blocks: set domain, or move this block nearer the others)"
+    raise SceneFileError(f"{spec.path}: {key} = {value!r}: {problem}")
+
+
+# the keys that choose a term of a built scene (its refusal names that key)
+_TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].model", "gravity": "physics.gravity",
+              "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
+              "continuity_colagrossi": "materials", "pressure_hu_adams": "materials"}
+
+
+def _validate(spec, scene):
+    """The scene's own checks (:meth:`taisph.Scene.validate`: its terms', the solver's) on the
+    built scene; a refusal becomes a SceneFileError naming the file and the key that chose
+    the refusing term (else `solver` or `dx`), so an accepted file makes a valid scene."""
+    from ..messages import InputError
+
+    try:
+        scene.validate()
+    except InputError as err:
+        key = "solver" if spec.solver == "dfsph" and "dfsph" in str(err) else "dx"
+        for t in scene.terms:
+            try:
+                t.check(scene)
+            except InputError:
+                key = _TERM_KEYS.get(t.name, "solver")
+                break
+            except Exception:  # noqa: BLE001 - the scene's own refusal is the one to report
+                break
+        values = {"walls[0].model": spec.wall_model, "physics.gravity": list(spec.gravity), "physics.alpha": spec.alpha,
+                  "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
+                  "materials": [m["name"] for m in spec.materials]}
+        raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
 
 
 def _wall_note(spec, block, group, removed):

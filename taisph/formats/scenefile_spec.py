@@ -11,6 +11,7 @@ import math
 import re
 import sys
 from dataclasses import dataclass
+from types import SimpleNamespace
 from pathlib import Path
 
 if sys.version_info >= (3, 11):
@@ -21,11 +22,12 @@ else:  # pragma: no cover - Python 3.10 (the tomli dependency)
 import numpy as np
 
 from ..engine import smoothing
+from ..engine.dfsph import pairs
 from ..geometry.mesh import MeshError, load_surface
 from ..messages import InputError
 from ..probes.spec import KINDS, Probe, outside  # noqa: F401  (Probe: what [[probes]] become)
 from ..scene.names import UP
-from ..scene.parameters import (Range, courant_number, diffusion_delta, end_time, finite,
+from ..scene.parameters import (BYTES_PER_PARTICLE, Range, courant_number, diffusion_delta, end_time, finite,
                                 gravity_component, integer, known_integrator, known_kernel, known_solver,
                                 memory_shortage, one_of, output_frames, positive, reference_density, smoothing_factor,
                                 speed_of_sound, tait_exponent, velocity_component, viscosity_alpha, xsph_epsilon)
@@ -296,18 +298,20 @@ class _Checker:
         return out
 
     def memory(self, spec):
-        """Refuse blocks whose particles would need more memory than the machine has (as the cases do,
-        :func:`taisph.scene.parameters.lattice_count`), before any is made: a block holds a lattice of its
-        bounds (walls: dx/2 apart for Lennard-Jones walls, grown by their layers for dummy walls)."""
+        """Refuse blocks whose particles (a lattice of each block's bounds: dx/2 apart for Lennard-Jones walls, grown by
+        dummy walls' layers; DFSPH's pair list counted) would need more memory than the machine has, before any is made."""
         layers = wall_layers_needed(spec) * spec.dx
         filled = [(b, spec.dx, 0.0) for b in spec.fluid] + [
             (b, spec.dx / 2.0, 0.0) if b.model == "lj" else (b, spec.dx, 2.0 * layers) for b in spec.walls]
         count = sum(math.prod(float(hi - lo + pad) / spacing + 1.0 for lo, hi in zip(*b.bounds))
                     for b, spacing, pad in filled)
-        problem = memory_shortage(count)
+        support = smoothing.KERNELS[spec.kernel].support * spec.h_factor * spec.dx  # entries: a power of 2 (fields)
+        entries = 1 << math.ceil(math.log2(pairs.capacity(SimpleNamespace(support_radius=support, dim=spec.dim, dx=spec.dx))))
+        per = BYTES_PER_PARTICLE + (pairs.bytes_per_particle(entries, 8) if spec.solver == "dfsph" else 0)
+        problem = memory_shortage(count, per)
         if problem:
             shapes = ", ".join(f"{b.key}.{b.shape}" for b, _, _ in filled)
-            self.fail("dx", spec.dx, f"fills {shapes} with {count:.3g} particles, {problem}")
+            self.fail("dx", spec.dx, f"fills {shapes} with {count:.3g} particles{f' (DFSPH: {per} B each)' * (per > BYTES_PER_PARTICLE)}, {problem}")
 
     def block(self, key, entry, spec, material_names, allowed) -> Block:
         self.keys(key, entry, allowed)

@@ -23,7 +23,9 @@ from ..messages import InputError
 from ..scene import water
 from ..scene.model import Material, Scene
 from ..scene.names import INTEGRATORS, KERNELS, UP
+from ..scene.parameters import particle_spacing
 from ..terms import ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall, PressureGradient, PressureHuAdams
+from ..engine import smoothing
 from ..engine.timestep import fixed_dt
 from ..eos import tait
 
@@ -34,6 +36,7 @@ FORMULATIONS = {
     "seed": (Continuity, PressureGradient),  # seed eqs. 7-8
     "multiphase": (ContinuityColagrossi, PressureHuAdams),  # Colagrossi & Landrini, Hu & Adams
 }
+KERNEL_SUPPORT = {name: smoothing.KERNELS[name].support for name in KERNELS}  # support radius / h
 # A particle whose density is further than this from its material's rho0 is refused:
 # the Tait pressure would be huge (10 % is (1.1^7 - 1) B ~ 0.95 B, with B = rho0 c0^2 / 7).
 MAX_DENSITY_DEVIATION = 0.1
@@ -68,11 +71,12 @@ def _per_material(values, n, name):
     return values
 
 
-def _wall_spacing(points: np.ndarray) -> float:
+def _wall_spacing(points: np.ndarray, path) -> float:
     """Median distance from a wall particle to its nearest wall neighbour (from up to
-    512 evenly chosen particles, brute force)."""
+    512 evenly chosen particles, brute force); `path`: the boundary file, for messages."""
     if len(points) < 2:
-        raise InputError("one wall particle gives no spacing; set --lj-cutoff")
+        raise InputError(f"{path}: one wall particle gives no spacing to take the Lennard-Jones cut-off r0 "
+                         "from; give the walls' particles or set --lj-cutoff")
     sample = points[:: max(1, len(points) // 512)]
     best = np.full(len(sample), np.inf)
     for start in range(0, len(points), 4096):
@@ -80,13 +84,21 @@ def _wall_spacing(points: np.ndarray) -> float:
         d = np.linalg.norm(sample[:, None, :] - block[None, :, :], axis=2)
         d[d == 0] = np.inf
         best = np.minimum(best, d.min(axis=1))
-    return float(np.median(best))
+    spacing = float(np.median(best))
+    if not math.isfinite(spacing):
+        raise InputError(f"{path}: the wall particles all lie on one point: no spacing "
+                         "to take the Lennard-Jones cut-off r0 from; set --lj-cutoff")
+    return spacing
 
 
 def load_scene(particles, boundary=None, physics: Physics | None = None, dim: int | None = None,
                kernel: str = "spline", integrator: str = "pc", dt: float | None = None, t_end: float = 1.0,
                frames: int = 20, name: str | None = None):
     """A :class:`taisph.Scene` from a seed particle file (and boundary file).
+
+    Every refusal (:class:`taisph.messages.InputError`) names the file it concerns: a
+    :class:`taisph.formats.dat.SeedFileError` the file and line, others start with the
+    particle file's name (or the boundary file's).
 
     `particles` and `boundary` are paths or :class:`taisph.formats.dat.ParticleData`.
     Returns ``(scene, energy)``: ``energy`` is the particle file's energy column (in
@@ -127,7 +139,15 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
             f"e.g. --rho0 1000,{fluid.density[worst]:g}", int(fluid.line[worst]))
 
     # --- length and speed scales for the defaults ---------------------------------------------
-    spacing = float(np.median((fluid.mass / np.asarray(rho0)[material]) ** (1.0 / dim)))
+    each = (fluid.mass / np.asarray(rho0)[material]) ** (1.0 / dim)  # each particle's spacing
+    outside = np.flatnonzero(~((each >= particle_spacing.low) & (each <= particle_spacing.high)))
+    if outside.size:
+        r = int(outside[0])
+        raise seedio.SeedFileError(
+            fluid.path, f"mass {fluid.mass[r]:g} at density {rho0[material[r]]:g} is a particle spacing "
+            f"(mass / rho0)^(1/{dim}) of {each[r]:.3g} m; it must be {particle_spacing.describe()} m",
+            int(fluid.line[r]))
+    spacing = float(np.median(each))
     all_pos = fluid.position if walls is None or walls.n == 0 else np.concatenate([fluid.position, walls.position])
     g_vec = np.zeros(dim)
     g_vec[UP] = -9.81  # y is vertical, as in the seed (and taisph's cases)
@@ -137,11 +157,19 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
             raise InputError(f"--gravity needs {dim} finite components, got {p.gravity!r}")
     g = float(np.linalg.norm(g_vec))
     height = float(fluid.position[:, UP].max() - all_pos[:, UP].min())
+    v_max = float(np.linalg.norm(fluid.velocity, axis=1).max())
+    axis = "xyz"[UP]
+    flat = (f"{fluid.path}: the fluid's column height is 0 (the highest fluid particle, {axis} = "
+            f"{fluid.position[:, UP].max():g}, is not above the lowest particle"
+            + (f" of {fluid.path} and {walls.path}" if walls is not None and walls.n else "") + ") and no "
+            "particle moves")
     if p.c0 is None:
-        v_max = float(np.linalg.norm(fluid.velocity, axis=1).max())
         c0 = water.sound_speed(g, height, v_max)
         if c0 <= 0:
-            raise InputError("cannot choose a sound speed: no gravity and no initial velocity; set --c0")
+            if g > 0:
+                raise InputError(f"{flat}: no speed to choose the sound speed from (10 sqrt(2 g H)); set --c0")
+            raise InputError(f"{fluid.path}: cannot choose a sound speed: no gravity and no initial velocity; "
+                             "set --c0")
         c0 = [c0] * n_mat
     else:
         c0 = _per_material(p.c0, n_mat, "c0")
@@ -163,11 +191,24 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
              Gravity(gravity=tuple(float(v) for v in g_vec))]
     has_walls = walls is not None and walls.n > 0
     if has_walls:
-        r0 = _wall_spacing(walls.position) if p.lj_cutoff is None else float(p.lj_cutoff)
+        r0 = _wall_spacing(walls.position, walls.path) if p.lj_cutoff is None else float(p.lj_cutoff)
+        support = KERNEL_SUPPORT.get(kernel, math.inf) * (p.h_factor * spacing if p.h is None else float(p.h))
+        if p.lj_cutoff is None and not r0 <= support:
+            raise InputError(f"{walls.path}: the wall particles are {r0:g} m apart (the median distance to the "
+                             f"nearest), farther than the kernel support radius {support:g} m of the fluid "
+                             f"(spacing {spacing:g} m from the masses of {fluid.path}): the fluid would pass "
+                             "between them; place them closer or set --lj-cutoff")
         if p.lj_strength is None:
-            if g * height <= 0:
-                raise InputError("cannot choose the wall strength without gravity; set --lj-strength")
-            strength = water.lennard_jones_strength(g, height, r0)
+            if g * height <= 0 and v_max > 0:  # no head: the fastest initial speed's (D = 5 v^2 / (2 r0))
+                strength = water.lennard_jones_strength(g, height, r0, v_max)
+            elif g * height <= 0:
+                if g > 0:
+                    raise InputError(f"{flat}: no height to choose the wall strength from (5 g H / r0); "
+                                     "set --lj-strength")
+                raise InputError(f"{fluid.path}: cannot choose the wall strength: no gravity and no initial "
+                                 "velocity; set --lj-strength")
+            else:
+                strength = water.lennard_jones_strength(g, height, r0)
         else:
             strength = float(p.lj_strength)
         terms.append(LennardJonesWall(lj_strength=strength, lj_cutoff=r0))
@@ -180,6 +221,7 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
         if box.shape != (2 * dim,):
             raise InputError(f"--domain needs {2 * dim} numbers (lo then hi corner), got {p.domain!r}")
         lo, hi = box[:dim], box[dim:]
+    _check_grid(fluid, walls, lo, hi, h, kernel)
     scene = Scene(
         name=name or Path(fluid.path).stem,
         dim=dim,
@@ -200,8 +242,37 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
     scene.material[: fluid.n] = material
     if has_walls:
         scene.add_walls(walls.position, mass=walls.mass, density=walls.density, velocity=walls.velocity)
-    scene.validate()
+    try:
+        scene.validate()
+    except InputError as err:  # (options such as --lj-cutoff, --h): the files it was built from
+        files = str(fluid.path) + (f" and {walls.path}" if walls is not None else "")
+        raise InputError(f"{files}: the scene they make is refused: {err}") from None
     return scene, fluid.energy.copy()
+
+
+def _check_grid(fluid, walls, lo, hi, h, kernel):
+    """Refuse particles spread so far apart (for their spacing) that the neighbour grid
+    would be out of proportion to them (:func:`taisph.engine.neighbours.grid_problem`,
+    the engine's check), naming the file and line of the particle farthest from the others."""
+    from ..engine.neighbours import grid_cells, grid_problem
+
+    support = KERNEL_SUPPORT.get(kernel)
+    if support is None or not (math.isfinite(h) and h > 0):
+        return  # Scene.validate refuses these
+    support *= h
+    parts = [fluid] + ([walls] if walls is not None and walls.n else [])
+    position = np.concatenate([d.position for d in parts])
+    lo, hi = np.minimum(lo, position.min(axis=0)), np.maximum(hi, position.max(axis=0))
+    problem = grid_problem(grid_cells(lo, hi, support), len(position), support)
+    if not problem:
+        return
+    far = int(np.argmax(np.linalg.norm(position - np.median(position, axis=0), axis=1)))
+    data = parts[0] if far < fluid.n else parts[1]
+    r = far if far < fluid.n else far - fluid.n
+    where = ", ".join(f"{a} = {v:g}" for a, v in zip("xyz", data.position[r]))
+    raise seedio.SeedFileError(data.path, f"the particles span {', '.join(f'{v:g}' for v in hi - lo)} m (this "
+                                          f"particle, at {where}, is the farthest from the others): {problem}",
+                               int(data.line[r]))
 
 
 # --- export ------------------------------------------------------------------------------------

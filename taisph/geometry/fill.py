@@ -276,7 +276,7 @@ def volume_points(mesh, spacing: float, depth: float | None = None, origin=None,
     winding = _column_winding(surface.corners, spacing, origin, kmin, shape)
     index = np.argwhere(winding != 0)
     points = origin + (index + kmin + 0.5) * spacing
-    if depth is not None:
+    if depth is not None and len(points):  # (no point inside, e.g. thinner than a float's spacing: none near)
         depth = _positive(depth, "depth")
         points = points[_within(surface.corners, points, index, shape, depth, spacing, origin, kmin)]
     return points

@@ -90,6 +90,17 @@ def load_surface(source, dim: int | None = None, name: str | None = None) -> Clo
             raise MeshError(f"{source.name}: a {source.dim}D surface where a {dim}D one is needed")
         return source
     points, blocks, name = _read(source, name)
+    if points.ndim != 2 or len(points) == 0 or points.shape[1] not in (2, 3):
+        raise MeshError(f"{name}: the mesh has no points" if points.size == 0 else
+                        f"{name}: points must be 2D or 3D coordinates, got an array of shape {points.shape}")
+    if not np.all(np.isfinite(points)):
+        raise MeshError(f"{name}: {np.count_nonzero(~np.all(np.isfinite(points), axis=1))} points have "
+                        "coordinates that are not finite numbers (nan or inf)")
+    for kind, data in blocks:  # a cell naming a point the file does not have (OBJ faces count from 1)
+        if data.size and (data.min() < 0 or data.max() >= len(points)):
+            bad = data.max() if data.max() >= len(points) else data.min()
+            raise MeshError(f"{name}: a {kind} cell names point {int(bad)} (counted from 0), but the mesh has "
+                            f"{len(points)} points")
     if points.shape[1] == 3 and points.shape[0] and np.ptp(points[:, 2]) == 0.0 and dim != 3:
         points = points[:, :2]
     mesh_dim = dim or (2 if points.shape[1] == 2 else 3)

@@ -71,7 +71,12 @@ class Number(Range):
         self.low, self.high, self.low_open, self.high_open, self.integer = low, high, low_open, high_open, integer
 
     def accepts(self, value) -> bool:
-        if not _number(value) or not math.isfinite(value):
+        if not _number(value):
+            return False
+        try:  # an integer beyond the float range (Python's ints have no bound) is out of range
+            if not math.isfinite(value):
+                return False
+        except OverflowError:
             return False
         if self.integer and not isinstance(value, numbers.Integral):
             return False
@@ -152,6 +157,14 @@ speed_of_sound = Number(0, 1e5, low_open=True)
 tait_exponent = Number(0, 20, low_open=True)
 # a velocity component (m/s): the sound speed, 10 times the fastest flow, stays in range
 velocity_component = between(-1e4, 1e4)
+# a position component (m): 1000 km; beyond it, single-precision positions (7 digits)
+# no longer resolve a metre, and the neighbour grid of any resolution is too large
+position_component = between(-1e6, 1e6)
+# a particle's mass (kg): a cube of the densest liquid (1e5 kg/m^3 at most) 100 m wide
+particle_mass = Number(0, 1e11, low_open=True)
+# a particle spacing (m) as a solver may take it: from a micrometre to a kilometre (the
+# kernel's normalisation h^-(dim+2) stays within single precision)
+particle_spacing = between(1e-6, 1e3)
 
 
 class OneOf(Range):
@@ -325,10 +338,12 @@ def lattice_count(owner: str, what: str, spacing: float, *sides: tuple, spacing_
     return count
 
 
-def memory_shortage(count: float) -> str:
+def memory_shortage(count: float, bytes_per_particle: float = BYTES_PER_PARTICLE) -> str:
     """'' if `count` particles fit in this machine's memory (at least
-    :data:`BYTES_PER_PARTICLE` each), else what is wrong, to follow "N particles, "."""
-    need, have = count * BYTES_PER_PARTICLE, _memory_bytes()
+    `bytes_per_particle` each, by default :data:`BYTES_PER_PARTICLE`: a solver that
+    stores more per particle, such as DFSPH's pair list, says so), else what is wrong,
+    to follow "N particles, "."""
+    need, have = count * bytes_per_particle, _memory_bytes()
     if need <= have:
         return ""
     return f"which need at least {need / 1e9:.3g} GB; this machine has {have / 1e9:.3g} GB: use a larger dx"
