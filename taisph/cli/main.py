@@ -143,7 +143,7 @@ def frame_interval(meta: dict, time: float) -> float:
 
 def resumed_probes(meta: dict, sim, out) -> tuple[list, list]:
     """(writers, notes): the run's probes as a :class:`taisph.probes.Probes` writer
-    appending to OUT/probes.csv, if the checkpoint has probes and the writer can append."""
+    appending to OUT/probes.csv, if the checkpoint has probes."""
     probes = meta.get("probes")
     if not probes:
         return [], []
@@ -151,8 +151,6 @@ def resumed_probes(meta: dict, sim, out) -> tuple[list, list]:
 
     names = ", ".join(p.name if hasattr(p, "name") else p["name"] for p in probes)
     path = Path(out) / "probes.csv"
-    if "append" not in inspect.signature(Probes).parameters:
-        return [], [f"probes ({names}): not resumed: this taisph's Probes writer cannot append to {path}"]
     walls = meta.get("wall_groups")
     if walls is None:  # a case's force probes name all the wall particles "walls"
         walls = {"walls": np.flatnonzero(sim.scene.kind == WALL)}
