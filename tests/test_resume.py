@@ -90,3 +90,15 @@ def test_the_run_keeps_its_probes(tmp_path, capsys):
     assert len(data["time"]) > rows and np.all(np.diff(data["time"]) > 0)
     assert data["time"][-1] == pytest.approx(0.04, abs=1e-3)
     assert (out / "probes.csv").read_text().count("time,") == 1
+
+
+def test_a_run_of_zero_frames_checkpoints_as_finished(tmp_path, capsys):
+    """--frames 0 with --checkpoint-every 1: the one output time (t_end) writes a
+    checkpoint with no frames left (not -1), which resume reports as finished."""
+    out = tmp_path / "out"
+    assert cli.main(["hydrostatic_tank", "--dx", "0.1", "--t-end", "0.002", "--frames", "0", "--checkpoint-every", "1",
+                "--out", str(out), "--no-progress"]) == 0
+    assert json.loads((out / "checkpoint" / "meta.json").read_text())["run"]["frames_left"] == 0
+    capsys.readouterr()
+    assert cli.main(["resume", str(out / "checkpoint"), "--no-progress"]) == 0
+    assert "nothing left to do" in capsys.readouterr().out

@@ -249,5 +249,5 @@ class CheckpointWriter:
 
     def on_frame(self, sim, k: int):
         if (k + 1) % self.every_frames == 0:
-            save(sim, self.folder, t_end=self.t_end, frames_left=self.frames - k - 1, writer=self.frame_writer,
+            save(sim, self.folder, t_end=self.t_end, frames_left=max(self.frames - k - 1, 0), writer=self.frame_writer,
                  checkpoint_every=self.every_frames, probes=self.probes, wall_groups=self.wall_groups)
