@@ -21,12 +21,12 @@ from pathlib import Path
 import numpy as np
 
 from ..engine.layout import WALL
-from ..engine.timestep import DFSPH_COURANT, Controls
+from ..engine.timestep import DFSPH_COURANT, DFSPH_FORCE_FACTOR, SETTABLE, Controls
 from ..messages import InputError
 from ..scene import catalogue
 from ..scene.names import INTEGRATORS, KERNELS, SOLVERS
 from .parser import (COURANT, END_TIME, EVERY, FRACTION, NON_NEGATIVE, OUTPUT_FRAMES, POSITIVE, SKIN, THREADS, Parser,
-                     UsageError)
+                     UsageError, ranged)
 
 # the simulation's own defaults (taisph.engine.timestep.Controls), for the options that set them
 CONTROLS = {f.name: f.default for f in dataclasses.fields(Controls)}
@@ -47,6 +47,20 @@ examples:
   python -m taisph dam_break --set alpha=0.05 --integrator euler --dt 5e-5
   python -m taisph dam_break --solver dfsph           # incompressible: DFSPH (docs/dfsph.md)
 Open OUT/CASE.pvd in ParaView (File > Open, Apply) to see the time series."""
+
+
+# DFSPH's controls on the command line (--dfsph-tolerance ...): name -> what it sets
+DFSPH_OPTIONS = {
+    "dfsph_tolerance": "mean density error (fraction of rho0) a density solve stops at",
+    "dfsph_divergence_tolerance": "mean density change per step (fraction of rho0) a divergence solve stops at",
+    "dfsph_min_iterations": "iterations of a density solve at least",
+    "dfsph_max_iterations": "iterations of either solve at most",
+    "dfsph_error_bound": "a solve that ends above its tolerance but within this many times it is kept and "
+                         "counted; beyond, the run stops",
+}
+# the controls each run command passes on from its options (dt and courant: their own rules)
+CONTROL_OPTIONS = ("dt_max", "force_factor", *DFSPH_OPTIONS)
+assert set(CONTROL_OPTIONS) == set(SETTABLE)
 
 
 def build_parser(case: str | None = None, target_help: str = "case name, or 'list'") -> Parser:
@@ -81,6 +95,15 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
                    help="Courant number of the adaptive step dt = C h / max(c + |v|) (0 < C <= 1); default: a "
                         f"scene file's courant, else the case's (dam_break: 0.4 in 2D), else {CONTROLS['courant']:g}; DFSPH: "
                         f"dt = C h / max |v|, {DFSPH_COURANT:g}{this['courant']}")
+    g.add_argument("--dt-max", type=ranged(SETTABLE["dt_max"]), metavar="S",
+                   help="cap on the adaptive step (s, > 0; default: none)")
+    g.add_argument("--force-factor", type=ranged(SETTABLE["force_factor"]), metavar="C",
+                   help="C in the force limit dt = C sqrt(h / max |a|) (0 < C <= 1; default "
+                        f"{CONTROLS['force_factor']:g}, DFSPH {DFSPH_FORCE_FACTOR:g})")
+    g = parser.add_argument_group("DFSPH's pressure solves (docs/dfsph.md)")
+    for name, about in DFSPH_OPTIONS.items():
+        g.add_argument("--" + name.replace("_", "-"), type=ranged(SETTABLE[name]), metavar="N" * ("iter" in name) or "E",
+                       help=f"{about} ({SETTABLE[name].describe()}; default {CONTROLS[name]:g})")
     g = parser.add_argument_group("numerics")
     g.add_argument("--solver", choices=SOLVERS,
                    help="wcsph: weakly compressible (the default); dfsph: divergence-free SPH, an implicit "
@@ -224,8 +247,8 @@ def output_folder(scene, args) -> Path | None:
 def simulate(scene, args, t_end=None, frames=None, notes=(), writers=(), controls=None) -> int:
     """Simulate `scene` as the case options `args` say (output folder, guards, machine,
     progress), print its description (and `notes`), the set-up time and the summary.
-    `controls`: further simulation controls (a scene file's ``courant``); ``--courant``
-    overrides."""
+    `controls`: further simulation controls (a scene file's ``courant``, ``dt_max``...); the
+    options (``--courant``, ``--dt-max``, ``--dfsph-tolerance``...) override."""
     import taisph
 
     if args.neighbour_skin is not None:
@@ -236,8 +259,9 @@ def simulate(scene, args, t_end=None, frames=None, notes=(), writers=(), control
         print(f"  {line}")
     start = time.perf_counter()
     controls = dict(controls or {})
-    if args.courant is not None:
-        controls["courant"] = args.courant
+    for name in ("courant", *CONTROL_OPTIONS):
+        if getattr(args, name, None) is not None:
+            controls[name] = getattr(args, name)
     sim = taisph.Simulation(scene, arch=args.arch, precision=args.precision, threads=args.threads,
                             max_density_error=args.max_density_error, remove_escaped=args.remove_escaped or None,
                             max_out_of_range=args.max_out_of_range,

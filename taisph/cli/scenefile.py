@@ -78,7 +78,7 @@ def run_file(path: Path, args) -> int:
     notes += probe_notes(probes, folder)
     try:
         return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes, writers=writers,
-                        controls={"courant": settings.courant} if settings.courant else None)
+                        controls={**settings.controls, **({"courant": settings.courant} if settings.courant else {})})
     finally:
         for writer in writers:
             writer.close()

@@ -101,13 +101,17 @@ def likely_causes(sim, report) -> list:
     causes = []
     failure = report.get("pressure_solve") or {}
     if "pressure solve did not converge" in report["codes"] and failure:
-        c = sim.controls
+        c, f = sim.controls, failure
+        dt_max, courant, force, iterations = (f"{0.5 * f['dt']:.2g}", f"{0.5 * c.courant:.2g}",
+                                              f"{0.5 * c.force_factor:.2g}", 2 * f["iterations"])
         causes.append(
-            f"the {failure['solve']} solve reached {failure['iterations']} iterations (dfsph_max_iterations) with a "
-            f"mean density error of {100 * failure['error']:.3g} % (tolerance {100 * failure['tolerance']:.3g} %) at "
-            f"dt = {failure['dt']:.3g} s: the step was too large for the solve; give a smaller maximum step "
-            f"(dt_max, e.g. {0.5 * failure['dt']:.2g} s), a smaller CFL number (courant, now {c.courant:g}) or force "
-            f"factor (now {c.force_factor:g}), or allow more iterations (dfsph_max_iterations)")
+            f"the {f['solve']} solve reached {f['iterations']} iterations with a mean density error of "
+            f"{100 * f['error']:.3g} % (tolerance {100 * f['tolerance']:.3g} %, kept up to {f['bound']:g} times that) "
+            f"at dt = {f['dt']:.3g} s: the step was too large for the solve; give a smaller maximum step "
+            f"(--dt-max {dt_max}), a smaller CFL number (--courant {courant}, now {c.courant:g}) or force factor "
+            f"(--force-factor {force}, now {c.force_factor:g}), or allow more iterations (--dfsph-max-iterations "
+            f"{iterations}, now {f['iterations']}); in Python Simulation(scene, dt_max={dt_max}, courant={courant}, "
+            f"force_factor={force}, dfsph_max_iterations={iterations})")
     if "neighbour list full" in report["codes"]:
         causes.append("a particle had more neighbours than DFSPH's pair list holds (taisph.engine.dfsph.pairs): particles "
                       "were crushed together, or the walls are sampled more finely than dx (DFSPH needs wall particles "
@@ -136,7 +140,7 @@ def likely_causes(sim, report) -> list:
         )
     if "density error" in report["codes"] and report.get("solver") == "dfsph":
         causes.append(f"the density exceeds rho0 by more than {report['max_density_error']:.0%}: the pressure solve "
-                      "lets particles be crushed; lower dfsph_tolerance or the maximum step (dt_max)")
+                      "lets particles be crushed; lower --dfsph-tolerance or the maximum step (--dt-max)")
     elif "density error" in report["codes"]:
         removed = sim.state.read_flag(st.OUT_OF_RANGE_COUNT)
         if removed:
@@ -149,7 +153,7 @@ def likely_causes(sim, report) -> list:
             "wall; raise c0 or --max-density-error"
         )
     if not causes and report.get("solver") == "dfsph":
-        causes.append("the state diverged; try a smaller maximum step (dt_max) or CFL number (courant)")
+        causes.append("the state diverged; try a smaller maximum step (--dt-max) or CFL number (--courant)")
     elif not causes:
         causes.append("the state diverged; try a smaller dt (or the adaptive step) and the pc integrator")
     return causes

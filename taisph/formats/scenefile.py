@@ -40,7 +40,8 @@ from .scenefile_spec import RANGES, SceneFileError, SceneSpec, default_domain, r
 @dataclass
 class RunSettings:
     """What a scene file asks of the run besides the scene: end time, frames, the
-    solver, the Courant number (None: the default), the probes, and the particles of
+    solver, the Courant number (None: the default) and the other run controls the file
+    sets (``controls``: dt_max, dfsph_tolerance...), the probes, and the particles of
     each wall group (``name -> slice`` of the scene's particle arrays, for force
     probes); `notes`: a line per wall group for the run's header (its kind, its
     particles and, for an obstacle, the fluid particles it removed). `frames` may be 0
@@ -54,6 +55,7 @@ class RunSettings:
     wall_groups: dict = field(default_factory=dict)
     source: Path | None = None
     notes: list = field(default_factory=list)
+    controls: dict = field(default_factory=dict)
 
 
 def load(path, overrides: dict | None = None):
@@ -102,7 +104,7 @@ def build(spec: SceneSpec):
     _check_grid(spec, scene)
     _validate(spec, scene)
     settings = RunSettings(spec.t_end, spec.frames, spec.solver, spec.courant, list(spec.probes), groups, spec.path,
-                           notes)
+                           notes, dict(spec.controls))
     return scene, settings
 
 
@@ -333,4 +335,5 @@ def scene_factory(path):
     factory = checked(**{name: RANGES[key] for name, key in SWEEP_KEYS.items()})(scene)
     factory.path = path
     factory.courant = spec.courant  # a run setting, not the scene's: the sweep passes it on
+    factory.controls = dict(spec.controls)  # likewise the file's dt_max, dfsph_tolerance...
     return factory

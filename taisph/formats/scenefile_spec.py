@@ -21,7 +21,7 @@ else:  # pragma: no cover - Python 3.10 (the tomli dependency)
 
 import numpy as np
 
-from ..engine import smoothing
+from ..engine import smoothing, timestep
 from ..engine.dfsph import pairs
 from ..geometry.mesh import MeshError, load_surface
 from ..messages import InputError
@@ -50,7 +50,7 @@ DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor
             "physics.delta": 0.1, "physics.xsph": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor",
-            "dt", "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes"}
+            "dt", "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", *timestep.SETTABLE}
 PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph"}
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
@@ -103,6 +103,7 @@ class SceneSpec:
     h_factor: float
     dt: float | None
     courant: float | None  # the adaptive step's Courant number (None: the default, 0.25)
+    controls: dict  # the other run controls the file sets (timestep.SETTABLE: dt_max, dfsph_tolerance...)
     gravity: tuple
     alpha: float
     delta: float
@@ -242,6 +243,7 @@ class _Checker:
             **numbers,
             **{k: self.choice(k, data.get(k, DEFAULTS[k]), RANGES[k]) for k in ("solver", "kernel", "integrator")},
             **{k: self.number(k, data[k], RANGES[k]) if k in data else None for k in ("dt", "courant")},
+            controls={k: self.number(k, data[k], timestep.SETTABLE[k]) for k in timestep.SETTABLE if k in data},
             remove_escaped=self.flag("remove_escaped", data.get("remove_escaped", _MISSING), True),
             gravity=self.vector("physics.gravity", gravity, dim, RANGES["physics.gravity"]),
             **{k: self.number(f"physics.{k}", physics.get(k, DEFAULTS[f"physics.{k}"]), RANGES[f"physics.{k}"])
@@ -270,8 +272,7 @@ class _Checker:
             self.fail("walls[0].model", "dummy", "fluids of different rho0 ("
                       + ", ".join(spec.materials[k]["name"] for k in used) + ") use the sharp-interface terms "
                       "(Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
-        if "domain" in data:
-            spec.domain = self.box("domain", data["domain"], dim)
+        spec.domain = self.box("domain", data["domain"], dim) if "domain" in data else None
         lo, hi = spec.domain or default_domain(spec)
         spec.probes = self.probes(self.entries("probes", data), spec, lo, hi)
         return spec
@@ -332,8 +333,7 @@ class _Checker:
             if name not in material_names:
                 self.fail(f"{key}.material", name, f"no such material; defined: {', '.join(material_names)}")
             block.material = material_names.index(name)
-        if "velocity" in entry:
-            block.velocity = self.vector(f"{key}.velocity", entry["velocity"], spec.dim, RANGES["velocity"])
+        block.velocity = self.vector(f"{key}.velocity", entry["velocity"], spec.dim, RANGES["velocity"]) if "velocity" in entry else None
         block.hydrostatic = self.flag(f"{key}.hydrostatic", entry.get("hydrostatic", _MISSING), True)
         block.name = self.text(f"{key}.name", entry["name"]) if "name" in entry else key
         block.model = self.choice(f"{key}.model", entry.get("model", DEFAULTS["model"]), RANGES["model"])

@@ -70,7 +70,7 @@ class RunSummary:
     list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
     fluid_mass: float = float("nan")  # of the fluid particles still simulated, at the end
     removed_mass: float = 0.0  # of the particles removed so far
-    pressure_solve: dict | None = None  # DFSPH: iterations per step and errors (dfsph.Stats.summary)
+    pressure_solve: dict | None = None  # DFSPH: iterations per step, errors, steps above tolerance (dfsph.Stats.summary)
     out_of_range: int = 0  # of `removed`: density out of the guard's range (taisph.engine.guards)
     replaced_frames: int = 0  # frames of an earlier series in `out` removed when this run began (run/vtk.py)
 
@@ -99,6 +99,9 @@ class RunSummary:
                         f"{ps['density_iterations_max']}), divergence {ps['divergence_iterations_mean']:.1f} (max "
                         f"{ps['divergence_iterations_max']}), mean density error reached <= "
                         f"{100 * ps['density_error_max']:.3g} %")
+            if ps.get("steps_above_tolerance"):
+                removed += (f", {ps['steps_above_tolerance']} steps kept with a solve above its tolerance (worst "
+                            f"{ps['worst_over_tolerance']:.3g} times it)")
         return (
             f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
             f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "

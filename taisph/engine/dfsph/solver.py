@@ -51,7 +51,9 @@ tolerances ``dfsph_divergence_tolerance`` (0.1 %) and ``dfsph_tolerance`` (0.02 
 with at least ``dfsph_min_iterations`` (2) density iterations and at most
 ``dfsph_max_iterations`` (300) of either; the divergence solve is skipped when its
 error is within the tolerance before any iteration. A solve that reaches the maximum
-unconverged stops the run through the guards (``UNCONVERGED``, :mod:`.diagnosis`).
+above its tolerance but within ``dfsph_error_bound`` (10) times it is kept and counted
+(:class:`Stats`: ``above_tolerance``, the worst error over its tolerance); beyond that it
+stops the run through the guards (``UNCONVERGED``, :mod:`.diagnosis`).
 Each solve starts from the last step's pressures (warm start, BK17 sec. 4.3; the first
 from the scene's initial pressure, :func:`initial_kappa`). Particles with fewer than
 7 (2D) or 20 (3D) neighbours (splashes) get no divergence correction. The measured
@@ -215,7 +217,11 @@ class Stats:
     max_density_error: float = 0.0  # the largest error a density solve stopped at (fraction of rho0)
     max_divergence_error: float = 0.0
     last_density_error: float = 0.0
-    failure: dict = field(default_factory=dict)  # what did not converge, if a solve did not
+    # steps kept with a solve that ended above its tolerance, within dfsph_error_bound times it
+    above_tolerance: int = 0
+    window_above_tolerance: int = 0
+    worst_over_tolerance: float = 0.0  # of the window: the largest error / tolerance of those solves
+    failure: dict = field(default_factory=dict)  # the solve that ended beyond the bound, if one did
 
     def summary(self) -> dict:
         n = max(self.window_steps, 1)
@@ -225,6 +231,7 @@ class Stats:
                     divergence_iterations_mean=self.window_divergence_iterations / n,
                     divergence_iterations_max=self.max_divergence_iterations,
                     density_error_max=self.max_density_error, divergence_error_max=self.max_divergence_error,
+                    steps_above_tolerance=self.window_above_tolerance, worst_over_tolerance=self.worst_over_tolerance,
                     round_trips=self.round_trips)
 
 
@@ -261,8 +268,9 @@ class Stepper:
         s.window_steps = s.window_density_iterations = s.window_divergence_iterations = 0
         s.max_density_iterations = s.max_divergence_iterations = 0
         s.max_density_error = s.max_divergence_error = 0.0
+        s.window_above_tolerance, s.worst_over_tolerance = 0, 0.0
 
-    def _solve(self, iterate, t_target, tolerance, minimum, maximum, what):
+    def _solve(self, iterate, t_target, tolerance, minimum, maximum):
         result = self.result
         count = 0
         error = 0.0
@@ -273,11 +281,21 @@ class Stepper:
             if count >= minimum and error <= tolerance:
                 break
             if count >= maximum:
-                self.stats.failure = dict(solve=what, iterations=count, error=float(error), tolerance=tolerance,
-                                          dt=float(self.status[st.DT]), time=float(self.status[st.TIME]))
                 break
         self.stats.round_trips += count
         return count, float(error)
+
+    def _judge(self, what, count, error, tolerance, bound) -> int:
+        """0: the solve converged; 1: it ended above `tolerance`, within `bound` times it (kept);
+        2: beyond (recorded in ``stats.failure``: the run stops)."""
+        if error <= tolerance:
+            return 0
+        if error <= bound * tolerance:
+            self.stats.worst_over_tolerance = max(self.stats.worst_over_tolerance, error / tolerance)
+            return 1
+        self.stats.failure = dict(solve=what, iterations=count, error=error, tolerance=tolerance, bound=bound,
+                                  dt=float(self.status[st.DT]), time=float(self.status[st.TIME]))
+        return 2
 
     def __call__(self, t_target):
         c = self.fields.controls
@@ -288,13 +306,13 @@ class Stepper:
         if self.status[st.IDLE] > 0.0:  # the clock already stands at the target
             return
         self.density(t_target)
-        unconverged = False
+        outcome = 0  # the worst of the solves' (_judge)
         initial = self.result[1]  # the divergence error before any iteration
         s.round_trips += 1
         if dt > 0.0 and initial > c.dfsph_divergence_tolerance:
             k, err = self._solve(self.divergence_iteration, t_target, c.dfsph_divergence_tolerance, 1,
-                                 c.dfsph_max_iterations, "divergence")
-            unconverged = err > c.dfsph_divergence_tolerance
+                                 c.dfsph_max_iterations)
+            outcome = self._judge("divergence", k, err, c.dfsph_divergence_tolerance, c.dfsph_error_bound)
             s.divergence_iterations += k
             s.window_divergence_iterations += k
             s.max_divergence_iterations = max(s.max_divergence_iterations, k)
@@ -302,8 +320,8 @@ class Stepper:
         self.middle(t_target)
         if dt > 0.0:
             k, err = self._solve(self.density_iteration, t_target, c.dfsph_tolerance, c.dfsph_min_iterations,
-                                 c.dfsph_max_iterations, "density")
-            unconverged = unconverged or err > c.dfsph_tolerance
+                                 c.dfsph_max_iterations)
+            outcome = max(outcome, self._judge("density", k, err, c.dfsph_tolerance, c.dfsph_error_bound))
             s.density_iterations += k
             s.window_density_iterations += k
             s.max_density_iterations = max(s.max_density_iterations, k)
@@ -311,8 +329,11 @@ class Stepper:
             s.last_density_error = err
             s.steps += 1
             s.window_steps += 1
+            if outcome == 1:
+                s.above_tolerance += 1
+                s.window_above_tolerance += 1
         self.final(t_target)
-        if unconverged:
+        if outcome == 2:
             flags = self.fields.args.flags
             if self.status[st.FROZEN] == 0.0:
                 flags[st.CODES] = flags[st.CODES] | st.UNCONVERGED
