@@ -287,3 +287,18 @@ def test_a_scene_file_factory_declares_its_signature_and_ranges():
         factory(delta=1e300)
     scene = factory(0.1, alpha=0.05)
     assert scene.dx == 0.1 and scene.terms_by_name["artificial_viscosity"].values["alpha"] == 0.05
+
+
+def test_a_sweep_varies_the_dfsph_controls_and_takes_a_scene_files_own(tmp_path):
+    """The controls a run can set (timestep.SETTABLE: dt_max, DFSPH's tolerances and
+    iteration limits) are sweep settings too, and a scene file's own values reach its
+    runs unless the sweep sets them."""
+    from taisph.sweeps.plan import plan_tasks
+
+    tasks, _ = plan_tasks("hydrostatic_tank", {"dfsph_max_iterations": ["50", "100"]}, {"dt_max": "0.001"},
+                          validate=False)
+    assert [(t.settings["dfsph_max_iterations"], t.settings["dt_max"]) for t in tasks] == [(50, 0.001), (100, 0.001)]
+    path = tmp_path / "tank.toml"
+    path.write_text(SCENE_FILE.replace('solver = "wcsph"', 'solver = "wcsph"\ndfsph_tolerance = 0.001'))
+    tasks, _ = plan_tasks(str(path), {"dx": ["0.05"]}, {}, validate=False)
+    assert tasks[0].settings["dfsph_tolerance"] == 0.001

@@ -14,7 +14,7 @@ import os
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
-from ..engine.timestep import Controls
+from ..engine.timestep import SETTABLE, Controls
 from ..scene.parameters import ParameterError, Number, Range, at_least, between, courant_number, flag, integer, one_of, optional, positive
 
 
@@ -51,6 +51,8 @@ SETTINGS = {
     "max_density_error": (at_least(0), "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
     "deterministic": (flag, "serial cell sort: bit-for-bit reproducible runs"),
     "remove_escaped": (flag, "remove particles that leave the domain instead of stopping"),
+    **{name: (rng, f"control {name} (default {getattr(Controls, name):g}; docs/dfsph.md)")
+       for name, rng in SETTABLE.items()},  # dt_max, force_factor, DFSPH's solve controls
 }
 # Keywords of the validation runs (taisph.validation.runs) and their ranges; every
 # validation takes dt_factor (the case's step is multiplied by it).
@@ -288,6 +290,8 @@ def plan_tasks(case: str, vary: dict, fixed: dict, validate: bool | None = None,
         settings.setdefault("precision", "f64")
         if getattr(factory, "courant", None) is not None:  # a scene file's own Courant number
             settings.setdefault("courant", factory.courant)
+        for key, value in getattr(factory, "controls", {}).items():  # and its other controls
+            settings.setdefault(key, value)
         params = {k: v for k, v in everything.items() if allowed[k].kind != "setting"}
         name = run_name(combination)
         folder = os.path.join(out, name) if (out is not None and frames_per_run) else None

@@ -27,12 +27,12 @@ import time
 
 from ..engine import runtime
 from ..engine.diagnosis import SimulationError
-from ..engine.timestep import fixed_dt
+from ..engine.timestep import SETTABLE, fixed_dt
 from ..run.simulation import Simulation
 from .plan import Task, resolve_case
 
 _ONE_RUN_AT_A_TIME = threading.Lock()
-_CONTROLS = ("max_density_error", "deterministic", "remove_escaped", "courant")
+_CONTROLS = ("max_density_error", "deterministic", "remove_escaped", "courant", *SETTABLE)
 
 
 def run_task(task: Task) -> dict:
