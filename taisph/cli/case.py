@@ -56,10 +56,11 @@ DFSPH_OPTIONS = {
     "dfsph_min_iterations": "iterations of a density solve at least",
     "dfsph_max_iterations": "iterations of either solve at most",
     "dfsph_error_bound": "a solve that ends above its tolerance but within this many times it is kept and "
-                         "counted; beyond, the run stops",
+                         "counted; beyond, the step is retried with half the dt",
+    "dfsph_retries": "retries of such a step, each with half the dt, before the run stops",
 }
 # the controls each run command passes on from its options (dt and courant: their own rules)
-CONTROL_OPTIONS = ("dt_max", "force_factor", *DFSPH_OPTIONS)
+CONTROL_OPTIONS = ("dt_max", "force_factor", "max_speed", *DFSPH_OPTIONS)
 assert set(CONTROL_OPTIONS) == set(SETTABLE)
 
 
@@ -102,7 +103,7 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
                         f"{CONTROLS['force_factor']:g}, DFSPH {DFSPH_FORCE_FACTOR:g})")
     g = parser.add_argument_group("DFSPH's pressure solves (docs/dfsph.md)")
     for name, about in DFSPH_OPTIONS.items():
-        g.add_argument("--" + name.replace("_", "-"), type=ranged(SETTABLE[name]), metavar="N" * ("iter" in name) or "E",
+        g.add_argument("--" + name.replace("_", "-"), type=ranged(SETTABLE[name]), metavar="N" * ("iter" in name or "retries" in name) or "E",
                        help=f"{about} ({SETTABLE[name].describe()}; default {CONTROLS[name]:g})")
     g = parser.add_argument_group("numerics")
     g.add_argument("--solver", choices=SOLVERS,
@@ -120,6 +121,9 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g.add_argument("--max-density-error", type=NON_NEGATIVE, default=CONTROLS["max_density_error"],
                    help="stop when |rho/rho0 - 1| exceeds this fraction (>= 0; 0: off; default "
                         f"{CONTROLS['max_density_error']:g})")
+    g.add_argument("--max-speed", type=ranged(SETTABLE["max_speed"]), metavar="V",
+                   help="stop when a fluid particle moves faster than V m/s (0: off; default: under DFSPH the "
+                        "largest sound speed c0, 10x the flow's speed in the cases; under WCSPH off)")
     g.add_argument("--remove-escaped", action="store_true",
                    help="remove (and count) particles that leave the domain instead of stopping, and particles "
                         "whose density leaves the range, up to --max-out-of-range")

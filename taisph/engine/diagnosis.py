@@ -29,15 +29,21 @@ class SimulationError(RuntimeError):
         self.files = list(files)
 
 
-def fail(sim, folder=None):
+def fail(sim, folder=None, stalled=False):
     """Collect, write the evidence (to `folder`, or a new temporary folder: a run with
     no output folder does not litter the working directory) and raise SimulationError.
+    `stalled`: the host saw the clock stand still (``STALLED``, recorded here with the
+    fastest fluid particles as the offending ones).
 
     The diagnosis outlives the evidence: if writing it fails (a full disk, a folder
     that cannot be written), the SimulationError says so and why, and lists only the files
     that were written."""
     import tempfile
 
+    if stalled:
+        speed = np.linalg.norm(sim.velocities(), axis=1)
+        speed[~sim.fluid | ~np.isfinite(speed)] = -1.0
+        guards.trip_from_host(sim.state, st.STALLED, np.argsort(speed)[::-1][:5])
     report = collect(sim)
     files, lost = [], None
     try:
@@ -107,11 +113,30 @@ def likely_causes(sim, report) -> list:
         causes.append(
             f"the {f['solve']} solve reached {f['iterations']} iterations with a mean density error of "
             f"{100 * f['error']:.3g} % (tolerance {100 * f['tolerance']:.3g} %, kept up to {f['bound']:g} times that) "
-            f"at dt = {f['dt']:.3g} s: the step was too large for the solve; give a smaller maximum step "
+            f"at dt = {f['dt']:.3g} s" + (f" (after {f['retries']} retries of the step, each with half the dt)"
+                                           if f.get("retries") else "")
+            + ": the step was too large for the solve; give a smaller maximum step "
             f"(--dt-max {dt_max}), a smaller CFL number (--courant {courant}, now {c.courant:g}) or force factor "
             f"(--force-factor {force}, now {c.force_factor:g}), or allow more iterations (--dfsph-max-iterations "
             f"{iterations}, now {f['iterations']}); in Python Simulation(scene, dt_max={dt_max}, courant={courant}, "
             f"force_factor={force}, dfsph_max_iterations={iterations})")
+    if "speed above max_speed" in report["codes"]:
+        fastest = max((float(np.linalg.norm(p["velocity"])) for p in report["particles"]), default=float("nan"))
+        limit = guards.max_speed(sim.scene, sim.controls)
+        if report.get("solver") == "dfsph":
+            causes.append(
+                f"a particle moved at {fastest:.3g} m/s, above max_speed = {limit:.3g} m/s (by default the sound speed "
+                "c0, 10 times the flow's speed in the cases): the pressure solve kicked it; give a smaller maximum step "
+                f"(--dt-max) or CFL number (--courant, now {sim.controls.courant:g}), or a tighter --dfsph-tolerance "
+                f"(now {sim.controls.dfsph_tolerance:g}); if the flow is really that fast, raise --max-speed "
+                "(in Python Simulation(scene, max_speed=...))")
+        else:
+            causes.append(f"a particle moved at {fastest:.3g} m/s, above max_speed = {limit:.3g} m/s: the flow blew up, "
+                          "or it is faster than the limit you set (--max-speed)")
+    if "time step collapsed" in report["codes"]:
+        causes.append(f"the adaptive time step fell to zero (last stable limit {report['dt_stable']:.3g} s): a "
+                      "particle's speed or acceleration diverged (the fastest are listed); give a smaller maximum step "
+                      "(--dt-max) or CFL number (--courant)")
     if "neighbour list full" in report["codes"]:
         causes.append("a particle had more neighbours than DFSPH's pair list holds (taisph.engine.dfsph.pairs): particles "
                       "were crushed together, or the walls are sampled more finely than dx (DFSPH needs wall particles "

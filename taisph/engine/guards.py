@@ -5,6 +5,11 @@ Cheap (a comparison per quantity; atomics only when something is wrong):
 - a non-finite position, velocity, density or acceleration;
 - density deviating from the material's rho0 by more than ``max_density_error`` (a
   fraction; 0 disables; only for equations of state with a reference density);
+- a speed above ``max_speed`` (m/s, a control; 0 disables): by default the largest
+  material sound speed c0 under DFSPH, which the cases set to 10x the flow's speed
+  (:mod:`taisph.scene.water`), and off under WCSPH, whose density guard sees a blow-up
+  first (its pressure follows the density). An incompressible solve keeps the density
+  of a particle it kicks away, so a speed is what shows its failure (docs/dfsph.md);
 - a position outside the guard box: the scene's domain grown by one kernel support,
   except along periodic axes and beyond the faces the scene leaves open
   (``Scene.open_faces``, e.g. the open top of a tank: water may fly up and fall back).
@@ -41,6 +46,7 @@ PARAMS = (  # runtime parameters, name and width ("dim": one per axis)
     ("guard_lo", "dim"),
     ("guard_hi", "dim"),
     ("max_out_of_range", 1),  # particles that may be removed for their density (see above)
+    ("max_speed2", 1),  # max_speed^2 (0: no speed guard)
 )
 OPEN = 1e30  # the guard position of an open face: never reached
 
@@ -49,6 +55,16 @@ def removes_escaped(scene, controls) -> bool:
     """Are particles leaving the domain removed (else a guard trips)? The controls
     decide if they say, else the scene."""
     return scene.remove_escaped if controls.remove_escaped is None else bool(controls.remove_escaped)
+
+
+def max_speed(scene, controls) -> float:
+    """The speed guard's limit (m/s; 0: none): the control if given, else under DFSPH the
+    largest material c0 (10x the flow's speed in the cases), else none."""
+    if controls.max_speed is not None:
+        return float(controls.max_speed)
+    if getattr(scene, "solver", "wcsph") == "dfsph":
+        return max(float(getattr(m, "c0", 0.0) or 0.0) for m in scene.materials)
+    return 0.0
 
 
 def parameter_values(scene, controls) -> dict:
@@ -68,6 +84,7 @@ def parameter_values(scene, controls) -> dict:
         guard_lo=guard_lo,
         guard_hi=guard_hi,
         max_out_of_range=np.floor(controls.max_out_of_range * scene.n_fluid),
+        max_speed2=min(max_speed(scene, controls) ** 2, 1e30),
     )
 
 
@@ -121,6 +138,9 @@ class Guards:
         check = x.sum() + v.sum() + rho + rates.acc.norm_sqr()
         if not (check - check == 0.0):  # NaN or inf anywhere
             code |= st.NONFINITE
+        limit2 = s.params[p.max_speed2]
+        if limit2 > 0.0 and v.norm_sqr() > limit2:
+            code |= st.SPEED
         if ti.static(self.has_rho0):
             max_error = s.params[p.max_density_error]
             if max_error > 0.0:
@@ -151,6 +171,19 @@ class Guards:
                 ti.atomic_sub(s.flags[st.OUT_OF_RANGE_COUNT], 1)
         if code != 0:
             trip(s, q, i, code)
+
+
+def trip_from_host(state, code: int, ids) -> None:
+    """Record failure `code` of the particles `ids` (ids, at most MAX_RECORDED) as a
+    guard in a kernel would: for what the host finds between steps (the clock that
+    stood still: ``STALLED``)."""
+    flags = state.flags.to_numpy()
+    flags[st.CODES] |= code
+    for pid in list(ids)[: st.MAX_RECORDED - min(int(flags[st.COUNT]), st.MAX_RECORDED)]:
+        k = int(flags[st.COUNT])
+        flags[st.RECORDS + 2 * k], flags[st.RECORDS + 2 * k + 1] = int(pid), code
+        flags[st.COUNT] += 1
+    state.flags.from_numpy(flags)
 
 
 def recorded(flags: np.ndarray) -> np.ndarray:

@@ -46,8 +46,12 @@ NONFINITE, DENSITY, ESCAPED = 1, 2, 4
 # DFSPH (taisph.engine.dfsph): a pressure solve reached its maximum iterations unconverged;
 # a particle had more neighbours than the pair list holds
 UNCONVERGED, CROWDED = 8, 16
+# a particle faster than the max_speed control (taisph.engine.guards); the clock stood still
+# (set by the host: the step collapsed to zero, taisph.run.simulation)
+SPEED, STALLED = 32, 64
 CODE_NAMES = {NONFINITE: "non-finite state", DENSITY: "density error", ESCAPED: "left the domain",
-              UNCONVERGED: "pressure solve did not converge", CROWDED: "neighbour list full"}
+              UNCONVERGED: "pressure solve did not converge", CROWDED: "neighbour list full",
+              SPEED: "speed above max_speed", STALLED: "time step collapsed"}
 
 # ``sizes`` (i32): the grid's shape and the counts a launch works on (written by the host,
 # :meth:`taisph.engine.state.State.setup_grid`)

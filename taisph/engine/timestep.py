@@ -52,6 +52,9 @@ class Controls:
                        None: as the scene says (``Scene.remove_escaped``)
     max_out_of_range   with remove_escaped: the fraction of the fluid particles that may be
                        removed for their density before the next one stops the run (0.001)
+    max_speed          stop when a fluid particle moves faster than this (m/s; 0 disables); None: the
+                       largest material c0 under DFSPH (10x the flow's speed in the cases), off under
+                       WCSPH (taisph.engine.guards)
     deterministic      serial (stable) cell sort at every size: bit-reproducible runs
     dfsph_tolerance    DFSPH: mean density error a constant-density solve stops at (fraction of rho0)
     dfsph_divergence_tolerance   DFSPH: mean density change per step a divergence solve stops at
@@ -59,7 +62,10 @@ class Controls:
                        at least (the divergence solve: 1) and of either solve at most
     dfsph_error_bound  DFSPH: a solve that reaches the maximum iterations above its tolerance but
                        within this many times it is kept (and counted: Stats.above_tolerance); beyond,
-                       the run stops with the diagnosis (taisph.engine.dfsph, taisph.engine.diagnosis)
+                       the step is retried with half the dt, up to dfsph_retries times, before the run
+                       stops with the diagnosis (taisph.engine.dfsph, taisph.engine.diagnosis)
+    dfsph_retries      DFSPH: how many times a step whose solve ended beyond the bound is retried, each
+                       time with half the last dt
     """
 
     dt: float | None = None
@@ -70,6 +76,7 @@ class Controls:
     max_density_error: float = 0.2
     remove_escaped: bool | None = None
     max_out_of_range: float = 0.001
+    max_speed: float | None = None
     deterministic: bool = False
     # DFSPH's stopping rule (taisph.engine.dfsph). 0.02 %, not the 0.1 % of Bender & Koschier:
     # the dam break's front error fell from 0.218 to 0.189 (dx = 0.02) for 23 % more wall time;
@@ -81,6 +88,7 @@ class Controls:
     # 10x: the dam break at dx = 0.01 reached 0.0201 % after 300 iterations in one early step
     # (issue 25); an error within 10x the tolerance is still a 0.2 % compression
     dfsph_error_bound: float = 10.0
+    dfsph_retries: int = 3
 
 
 # The controls a user sets by name (Simulation(scene, NAME=...), --NAME on the command line with
@@ -93,6 +101,8 @@ SETTABLE = {
     "dfsph_min_iterations": parameters.integer(at_least=1, at_most=100_000),
     "dfsph_max_iterations": parameters.integer(at_least=1, at_most=100_000),
     "dfsph_error_bound": parameters.at_least(1),
+    "dfsph_retries": parameters.integer(at_least=0, at_most=20),
+    "max_speed": parameters.Number(0, 1e8),  # m/s; 0: off
 }
 
 

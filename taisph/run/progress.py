@@ -102,6 +102,8 @@ class RunSummary:
             if ps.get("steps_above_tolerance"):
                 removed += (f", {ps['steps_above_tolerance']} steps kept with a solve above its tolerance (worst "
                             f"{ps['worst_over_tolerance']:.3g} times it)")
+            if ps.get("retries"):
+                removed += f", {ps['retries']} steps retried with half the dt (a solve ended beyond the bound)"
         return (
             f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
             f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "

@@ -182,9 +182,8 @@ class Simulation:
             done += n
             if self._fail_codes:
                 self._fail()
-            if self.time == before:
-                raise RuntimeError(f"the time step is zero at t = {self.time:.6g} s (dt limits: "
-                                   f"stable {self._dt_stable:.3g} s, controls {self.controls})")
+            if self.time == before:  # the step underflowed: a guard's diagnosis, with the fastest particles
+                self._fail(stalled=True)
             self._warn_if_dt_unstable()
             if progress is not None:
                 progress.update(self.time, self.steps - steps0)
@@ -290,10 +289,10 @@ class Simulation:
         return self.state.read(st.TIME)
 
     # --- guards and checkpoints ---------------------------------------------------------
-    def _fail(self):
+    def _fail(self, stalled=False):
         from ..engine import diagnosis
 
-        diagnosis.fail(self, getattr(self, "_out", None))
+        diagnosis.fail(self, getattr(self, "_out", None), stalled)
 
     def save_checkpoint(self, folder, t_end=None, frames_left=None, writer=None, **run) -> Path:
         """Write the complete state to `folder`, atomically (:mod:`taisph.run.checkpoint`;

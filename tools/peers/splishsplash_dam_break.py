@@ -27,19 +27,25 @@ import time
 MAP_RESOLUTION = [20, 20, 20]  # the volume map's grid (SPlisHSPlasH's default)
 
 
-def scene(dx, box_obj):
+def scene(dx, box_obj, tf, map_resolution=MAP_RESOLUTION, max_error=0.1, max_error_v=0.1):
+    """The scene file of the run (SPlisHSPlasH 2.19's format: the DFSPH settings inside
+    "Configuration", as in its own data/Scenes/DamBreakModel.json; at the top level
+    they are ignored and its defaults, a 0.01 % density error, apply)."""
     return {
         "Configuration": {
-            "sim2D": True, "particleRadius": dx / 2, "timeStepSize": 0.001, "numberOfStepsPerRenderUpdate": 1,
-            "simulationMethod": 4, "boundaryHandlingMethod": 2, "gravitation": [0, -9.81, 0],
-            "cflMethod": 1, "cflFactor": 1, "cflMaxTimeStepSize": 0.005, "enableVTKExport": False,
-            "enablePartioExport": False, "dataExportFPS": 0,
+            "pause": False, "sim2D": True, "particleRadius": dx / 2, "numberOfStepsPerRenderUpdate": 4,
+            "simulationMethod": 4, "gravitation": [0, -9.81, 0], "cflMethod": 1, "cflFactor": 1,
+            "cflMaxTimeStepSize": 0.005, "boundaryHandlingMethod": 2, "enableVTKExport": False,
+            "enablePartioExport": False, "stopAt": tf,
+            "DFSPH": {"minIterations": 2, "maxIterations": 100, "maxError": max_error, "maxIterationsV": 100,
+                      "maxErrorV": max_error_v, "enableDivergenceSolver": True},
         },
-        "Materials": [{"id": "Fluid", "viscosityMethod": 1, "viscosity": 0.01}],
-        "DFSPH": {"maxError": 0.1, "maxErrorV": 0.1, "enableDivergenceSolver": True},
-        "RigidBodies": [{"geometryFile": box_obj, "translation": [2, 2, 0], "scale": [4, 4, 1], "color": [0.1, 0.4, 0.6, 1.0],
-                         "isDynamic": False, "isWall": True, "mapInvert": True, "mapResolution": MAP_RESOLUTION}],
-        "FluidBlocks": [{"denseMode": 0, "start": [0.0, 0.0, -0.5], "end": [1.0, 2.0, 0.5], "translation": [0, 0, 0],
+        "Materials": [{"id": "Fluid", "density0": 1000, "viscosityMethod": 1,
+                       "Standard viscosity": {"viscosity": 0.01}}],
+        "RigidBodies": [{"geometryFile": box_obj, "translation": [2.0, 2.0, 0], "rotationAxis": [1, 0, 0],
+                         "rotationAngle": 0, "scale": [4, 4, 1], "isDynamic": False, "isWall": True,
+                         "mapInvert": True, "mapThickness": 0.0, "mapResolution": list(map_resolution)}],
+        "FluidBlocks": [{"denseMode": 0, "start": [0.0, 0.0, -1], "end": [1.0, 2.0, 1], "translation": [0, 0, 0],
                          "scale": [1, 1, 1]}],
     }
 
@@ -60,6 +66,8 @@ def main():
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")
     ap.add_argument("--map-resolution", type=int, nargs=3, default=MAP_RESOLUTION,
                     help="the walls' volume map grid (default: SPlisHSPlasH's 20 20 20)")
+    ap.add_argument("--max-error", type=float, default=0.1, help="the density solve's mean error, %% (default 0.1)")
+    ap.add_argument("--max-error-v", type=float, default=0.1, help="the divergence solve's, %% (default 0.1)")
     args = ap.parse_args()
     import pysplishsplash as sph  # noqa: F401  (needs the system libGL: LD_PRELOAD, see above)
     import pysplishsplash.Exec as Exec
@@ -70,8 +78,7 @@ def main():
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "dam_break_2d.json")
     with open(path, "w") as f:
-        description = scene(args.dx, box)
-        description["RigidBodies"][0]["mapResolution"] = args.map_resolution
+        description = scene(args.dx, box, args.tf, args.map_resolution, args.max_error, args.max_error_v)
         json.dump(description, f, indent=1)
     base = Exec.SimulatorBase()
     base.init(["SPlisHSPlasH", "--no-gui", "--no-initial-pause", "--stopAt", str(args.tf), "--output-dir", out, path],

@@ -17,12 +17,9 @@ from .. import guards, kernels
 from . import pairs
 from .. import status as st
 from ..layout import FLUID, WALL
-from .visitors import DensityVisitor, NonPressure, WallGather
+from .visitors import WALL_MIRROR, DensityVisitor, NonPressure, WallGather  # noqa: F401 (WALL_MIRROR: the probes')
 
 CHUNKS = 128  # the error sums: per chunk of particles, then a serial sum (an atomic add costs 5x more)
-# phi, the wall's share of the pressure term, phi k_i sum_wall g_ij: 2 is p_wall = p_i in
-# the symmetric form (1 crushed particles into the wall, 1.5 left still water 7-12 % off, 3 stalled dt)
-WALL_MIRROR = 2.0
 
 
 @ti.func
@@ -89,11 +86,17 @@ class Bodies:
                     if not plist.close(s, i, acc.k):
                         guards.trip(s, q, i, st.CROWDED)
                     s.Ss[q.density, i] = acc.rho
-                    gsum = acc.gf + WALL_MIRROR * acc.gb
-                    denominator = gsum.dot(acc.gf + acc.gb) + acc.g2
+                    gsum = acc.gf + acc.gb  # acc.gb has the walls' mirror share
+                    denominator = gsum.dot(gsum) + acc.g2
                     s.Ss[q.alpha, i] = 1.0 / denominator if denominator > 0.0 else 0.0
                     s.Sv[q.gsum, i] = gsum
                     s.Ss[q.source, i] = acc.div  # kappa_v: the last step's, the solve's warm start
+                    if acc.k < s.params[p["dfsph_min_neighbours"]]:
+                        # a splash: no warm start. Its factor is huge when a neighbour stands near the
+                        # support's edge, and so its last pressure; kept, it kicks the particle at the
+                        # next encounter unless iterated away, which a mean error does not ask for
+                        s.Ss[q.kappa, i] = 0.0
+                        s.Ss[q.kappa_v, i] = 0.0
                 else:  # walls (and removed particles): no pressure, no acceleration, their own velocity
                     s_mem.Ss[q.kappa, i] = 0.0
                     s_mem.Ss[q.kappa_v, i] = 0.0
