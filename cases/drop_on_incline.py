@@ -4,13 +4,13 @@ import math
 
 import numpy as np
 
-from taisph.geometry import ball, extrude, polyline, side_walls
+from taisph.geometry import ball, container_layers, extrude, polyline, side_walls
 from taisph.scene import Material, Scene
-from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
+from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
 from taisph.scene.water import lennard_jones_strength, sound_speed
 from taisph.scene.parameters import (ParameterError, at_least, checked, end_time, frame_count, gravity_magnitude,
-                                     known_integrator, known_kernel, lattice_count, one_of, optional, positive,
-                                     smoothing_factor, speed_of_sound, viscosity_alpha)
+                                     known_integrator, known_kernel, known_solver, lattice_count, one_of, optional,
+                                     positive, smoothing_factor, speed_of_sound, viscosity_alpha)
 
 SQRT2 = math.sqrt(2.0)
 
@@ -18,7 +18,8 @@ SQRT2 = math.sqrt(2.0)
 @checked(dim=one_of(2, 3), dx=optional(positive), radius=positive, fall=at_least(0), impact_x=positive,
          incline=positive, floor=at_least(0), tank_height=positive, depth=positive, side_wall_height=positive,
          alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel,
-         integrator=known_integrator, t_end=end_time, frames=frame_count)
+         integrator=known_integrator, t_end=end_time, frames=frame_count, walls=optional(one_of("lj", "dummy")),
+         solver=optional(known_solver))
 def drop_on_incline(
     dim: int = 2,
     dx: float | None = None,
@@ -38,6 +39,8 @@ def drop_on_incline(
     integrator: str = "pc",
     t_end: float = 0.7,
     frames: int = 28,
+    walls: str | None = None,
+    solver: str | None = None,
 ) -> Scene:
     """A drop of water of `radius` (m), at rest, falls `fall` (m) before it touches a
     45 deg plane. The container's bottom is the plane from (0, `incline`) down to
@@ -57,7 +60,17 @@ def drop_on_incline(
     c0 = 10 sqrt(2 g H), with H the height of the drop's top above the floor (the
     largest speed is that of a free fall from there). The drop starts at rho0: a body
     in free fall carries no hydrostatic pressure.
+
+    `walls` = "dummy": dummy-particle walls instead (Adami et al. 2012, as ``dam_break``'s:
+    ceil(support / dx) layers dx apart behind the container's outline, on each wall's own
+    lattice so that the incline is smooth, :func:`taisph.geometry.container_layers`);
+    the default with `solver` = "dfsph" (DFSPH's pressure solve needs walls of particles
+    dx apart, and no Lennard-Jones force), else "lj". `solver` sets ``Scene.solver``.
     """
+    walls = walls or ("dummy" if solver == "dfsph" else "lj")
+    if solver == "dfsph" and walls == "lj":
+        raise ParameterError("drop_on_incline: solver = 'dfsph' needs walls = 'dummy' (its pressure solve takes "
+                             "the place of the Lennard-Jones wall force)")
     dx = (0.01 if dim == 2 else 0.025) if dx is None else dx
     width = incline + floor
     if not impact_x < incline:
@@ -90,20 +103,29 @@ def drop_on_incline(
     gravity = (0.0, -g) if dim == 2 else (0.0, -g, 0.0)
     lo = [0.0, 0.0] + ([0.0] if dim == 3 else [])
     hi = [width, tank_height] + ([depth] if dim == 3 else [])
+    dummy = walls == "dummy"
+    wall_terms = ([AdamiWall()] if dummy else
+                  [LennardJonesWall(lj_strength=lennard_jones_strength(g, top, r0), lj_cutoff=r0)])
     scene = Scene(
         name="drop_on_incline",
         dim=dim,
         dx=dx,
         smoothing_length=h_factor * dx,
         domain=(np.array(lo) - dx, np.array(hi) + dx),
+        # the open top: a splash may fly above it and fall back; water leaving elsewhere (over a
+        # wall) and, with WCSPH, the odd splash particle crushed out of the density range are
+        # removed and counted, as in dam_break
+        open_faces=("+y",),
+        remove_escaped=True,
         materials=[water],
         terms=[
-            Continuity(),
-            PressureGradient(),
+            Continuity(walls=dummy),
+            PressureGradient(walls=dummy),
             ArtificialViscosity(alpha=alpha),
             Gravity(gravity=gravity),
-            LennardJonesWall(lj_strength=lennard_jones_strength(g, top, r0), lj_cutoff=r0),
+            *wall_terms,
         ],
+        solver=solver or "wcsph",
         kernel=kernel,
         integrator=integrator,
         t_end=t_end,
@@ -113,8 +135,27 @@ def drop_on_incline(
     )
     centre = [impact_x, centre_y] + ([0.5 * depth] if dim == 3 else [])
     scene.add_fluid(ball(centre, radius, dx))
-    profile = polyline([(0.0, tank_height), (0.0, incline), (incline, 0.0), (width, 0.0), (width, tank_height)],
-                       spacing)
+    outline = [(0.0, tank_height), (0.0, incline), (incline, 0.0), (width, 0.0), (width, tank_height)]
+    if dummy:
+        layers = math.ceil(scene.support_radius / dx - 1e-9)
+        scene.domain = (np.array(lo) - (layers + 1) * dx, np.array(hi) + (layers + 1) * dx)
+        layer_points = container_layers(outline, dx, layers)
+        if dim == 2:
+            scene.add_walls(layer_points)
+        else:
+            z = (np.arange(-layers, math.ceil(depth / dx - 1e-9) + layers) + 0.5) * dx
+            extruded = np.concatenate([np.column_stack([layer_points, np.full(len(layer_points), zk)]) for zk in z])
+            xs = (np.arange(math.ceil(width / dx - 1e-9)) + 0.5) * dx
+            ys = (np.arange(math.ceil(tank_height / dx - 1e-9)) + 0.5) * dx
+            x, y = (m.ravel() for m in np.meshgrid(xs, ys, indexing="ij"))
+            bottom = np.maximum(incline - x, 0.0)
+            keep = (y > bottom) & (y < bottom + side_wall_height)
+            face = np.column_stack([x[keep], y[keep]])
+            sides = [np.column_stack([face, np.full(len(face), zk)])
+                     for k in range(layers) for zk in (-(k + 0.5) * dx, depth + (k + 0.5) * dx)]
+            scene.add_walls(np.concatenate([extruded, *sides]))
+        return scene
+    profile = polyline(outline, spacing)
     if dim == 2:
         scene.add_walls(profile)
     else:

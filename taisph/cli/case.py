@@ -190,7 +190,10 @@ def run_case(name: str, argv) -> int:
     the scene built) before anything is compiled or written."""
     args = build_parser(name).parse_args(argv)
     settings, solver = catalogue.solver_setting(args.set, args.solver)
-    kwargs = catalogue.case_arguments(name, settings, dx=args.dx, integrator=args.integrator, kernel=args.kernel)
+    # a case that builds what a solver needs (drop_on_incline: dummy walls for DFSPH) is told the solver
+    told = solver if "solver" in catalogue.parameters(name) else None
+    kwargs = catalogue.case_arguments(name, settings, dx=args.dx, integrator=args.integrator, kernel=args.kernel,
+                                      solver=told)
     scene = catalogue.find(name)(**kwargs)
     if solver is not None:
         scene.solver = solver

@@ -5,9 +5,9 @@ checks them, :mod:`.fill` samples them).
     from taisph.geometry import lattice, box_walls
 """
 
-from .shapes import (ball, box_walls, extrude, inside_triangle, lattice, polyline, segment, side_walls,
-                     wall_layers)
+from .shapes import (ball, box_walls, container_layers, extrude, inside_triangle, lattice, polyline, segment,
+                     side_walls, wall_layers)
 from .fill import surface_points, volume_points
 
-__all__ = ["ball", "box_walls", "extrude", "inside_triangle", "lattice", "polyline", "segment", "side_walls",
+__all__ = ["ball", "box_walls", "container_layers", "extrude", "inside_triangle", "lattice", "polyline", "segment", "side_walls",
            "wall_layers", "surface_points", "volume_points"]

@@ -154,3 +154,59 @@ def solid_layers(lo, hi, dx, layers) -> np.ndarray:
     pts = lattice(lo, hi, dx)
     core = np.all((pts > lo + layers * dx) & (pts < hi - layers * dx), axis=1)
     return pts[~core]
+
+
+def container_layers(outline, dx, layers) -> np.ndarray:
+    """Wall particles for dummy-particle walls (2D) around a container whose walls follow
+    the open polyline `outline` (its vertices in order, the fluid on the left going from
+    the first to the last, as for a tank drawn from the top of its left wall down, along
+    the floor and up the right wall): `layers` layers of points dx apart behind each
+    segment, on a lattice of that segment's own direction, so that a sloping wall (an
+    incline) is as smooth as a level one (the fluid's lattice would make a staircase).
+
+    Each segment's lattice has rows (k + 1/2) dx behind it (k < layers) and columns dx
+    apart centred on it, reaching `layers` dx past its ends where another segment joins
+    (the outline's two open ends stop at their vertex). A point is kept where this
+    segment is the nearest (the first of equals) and within layers dx; at a joint the
+    later segment's points closer than 0.7 dx to the earlier ones' are dropped. Along an
+    axis-aligned outline the points are those of :func:`wall_layers` on the same lattice,
+    but for the outer corner points of a right-angled corner farther than layers dx from
+    it (beyond a kernel's support)."""
+    pts = np.asarray(outline, float)
+    a, b = pts[:-1], pts[1:]
+    length = np.linalg.norm(b - a, axis=1)
+    if len(a) < 1 or np.any(length <= 0):
+        raise ValueError("container_layers: the outline needs two or more distinct vertices in a row")
+    t = (b - a) / length[:, None]
+    n = np.column_stack([-t[:, 1], t[:, 0]])  # towards the fluid (its left)
+    depth = -(np.arange(layers) + 0.5) * dx
+    kept = []
+    for k in range(len(a)):
+        cols = int(np.ceil(length[k] / dx - 1e-9))
+        start = 0.5 * (length[k] - cols * dx)  # columns centred on the segment
+        before = layers if k > 0 else 0
+        after = layers if k < len(a) - 1 else 0
+        s = start + (np.arange(-before, cols + after) + 0.5) * dx
+        S, D = (m.ravel() for m in np.meshgrid(s, depth, indexing="ij"))
+        cand = a[k] + S[:, None] * t[k] + D[:, None] * n[k]
+        dist = np.stack([_segment_distance(cand, a[m], b[m]) for m in range(len(a))], axis=1)
+        nearest = np.argmin(dist - 1e-9 * np.arange(len(a)), axis=1)  # ties: the first segment
+        cand = cand[(nearest == k) & (dist[:, k] <= layers * dx + 1e-9)]
+        if k > 0:  # thin the joint with the segments before
+            joint = np.linalg.norm(cand - a[k], axis=1) < (layers + 1) * dx
+            earlier = np.concatenate(kept)
+            near = earlier[np.linalg.norm(earlier - a[k], axis=1) < (layers + 2) * dx]
+            if len(near) and joint.any():
+                gap = np.linalg.norm(cand[joint][:, None, :] - near[None, :, :], axis=2).min(axis=1)
+                drop = np.zeros(len(cand), bool)
+                drop[np.flatnonzero(joint)[gap < 0.7 * dx]] = True
+                cand = cand[~drop]
+        kept.append(cand)
+    return np.concatenate(kept)
+
+
+def _segment_distance(p, a, b):
+    """Distance of points `p` to the segment from `a` to `b`."""
+    ab = b - a
+    u = np.clip(((p - a) @ ab) / (ab @ ab), 0.0, 1.0)
+    return np.linalg.norm(p - (a + u[:, None] * ab), axis=1)

@@ -156,7 +156,7 @@ def main(argv=None):
           f"arch {rt.arch}, {time.strftime('%Y-%m-%d %H:%M')}")
     print(f"# command: python -m tools.benchmarks.bench {' '.join(sys.argv[1:] if argv is None else argv)}")
     if args.compare_splishsplash:  # in its own module: tools/peers/compare_splishsplash.py
-        compare_splishsplash(splishsplash_python(args.splishsplash_python), dx=args.dx, tf=0.2,
+        compare_splishsplash(splishsplash_python(args.splishsplash_python), dx=args.dx, tfs=(0.2, 1.0),
                              precision=args.precision)
         return
     if args.compare:

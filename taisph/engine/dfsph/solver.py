@@ -145,9 +145,9 @@ def rows(has_shift: bool, wall_velocity: bool):
     (carried: the warm start), the factor, the solve's source, the pressure
     acceleration, the predicted velocity v*, the XSPH shift and the walls' no-slip
     velocity if a kept term needs them."""
-    vectors = ["acc_p", "vstar", "gsum"] + (["shift"] if has_shift else []) + (["wall_velocity"] if wall_velocity else [])
+    vectors = ["v_pred", "vstar", "gsum"] + (["shift"] if has_shift else []) + (["wall_velocity"] if wall_velocity else [])
     scalars = ["kappa", "kappa_v", "alpha", "source"] + (["wall_weight"] if wall_velocity else [])
-    derived = ["acc_p", "vstar", "gsum", "shift", "wall_velocity", "wall_weight", "alpha", "source"]
+    derived = ["v_pred", "vstar", "gsum", "shift", "wall_velocity", "wall_weight", "alpha", "source"]
     return vectors, scalars, derived
 
 
