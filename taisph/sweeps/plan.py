@@ -39,6 +39,11 @@ class Numbers(Range):
         return tuple(self.inner.parse(w.strip()) for w in text.strip().strip("()").split(","))
 
 
+def _default_text(value) -> str:
+    """A control's default as the help shows it (None: the solver decides, e.g. max_speed)."""
+    return "set by the solver" if value is None else f"{value:g}"
+
+
 # Run settings: not case parameters but options of the simulation or of the runtime
 # (the same as the plain command's options). name -> (allowed range, what it is)
 SETTINGS = {
@@ -51,8 +56,8 @@ SETTINGS = {
     "max_density_error": (at_least(0), "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
     "deterministic": (flag, "serial cell sort: bit-for-bit reproducible runs"),
     "remove_escaped": (flag, "remove particles that leave the domain instead of stopping"),
-    **{name: (rng, f"control {name} (default {getattr(Controls, name):g}; docs/dfsph.md)")
-       for name, rng in SETTABLE.items()},  # dt_max, force_factor, DFSPH's solve controls
+    **{name: (rng, f"control {name} (default {_default_text(getattr(Controls, name))}; docs/dfsph.md)")
+       for name, rng in SETTABLE.items()},  # dt_max, force_factor, DFSPH's solve controls, max_speed
 }
 # Keywords of the validation runs (taisph.validation.runs) and their ranges; every
 # validation takes dt_factor (the case's step is multiplied by it).
