@@ -73,7 +73,7 @@ def run_taisph(dx, tf, precision="f64", tolerance=None):
     ti.sync()
     wall = time.perf_counter() - start
     ps = summary.pressure_solve
-    out = dict(code=f"taisph DFSPH, tolerance {100 * sim.controls.dfsph_tolerance:g} %", fluid=sim.n_fluid, steps=summary.steps, sim_time=sim.time - t1, wall=wall,
+    out = dict(code=f"taisph DFSPH, tolerance {100 * sim.controls.dfsph_tolerance:g} %, CFL {sim.controls.courant:g} h", fluid=sim.n_fluid, steps=summary.steps, sim_time=sim.time - t1, wall=wall,
                sim_step_s=summary.wall_time, dt_mean=summary.dt_mean,
                density_iterations=ps["density_iterations_mean"], divergence_iterations=ps["divergence_iterations_mean"],
                bytes_per_particle=sim.bytes_per_particle())
@@ -81,7 +81,7 @@ def run_taisph(dx, tf, precision="f64", tolerance=None):
     return out
 
 
-def run_splishsplash(python, dx, tf, libgl=None, map_resolution=(20, 20, 20)):
+def run_splishsplash(python, dx, tf, libgl=None, map_resolution=(20, 20, 20), cfl_factor=1.0):
     libgl = default_libgl() if libgl is None else libgl
     env = dict(os.environ)
     if libgl:
@@ -91,25 +91,31 @@ def run_splishsplash(python, dx, tf, libgl=None, map_resolution=(20, 20, 20)):
     env.setdefault("OMP_NUM_THREADS", "2")
     env.setdefault("OMP_WAIT_POLICY", "passive")
     script = find_spec("tools.peers.splishsplash_dam_break").origin  # run as a file: its Python has no taisph
-    cmd = [python, script, "--dx", str(dx), "--tf", str(tf), "--map-resolution", *map(str, map_resolution)]
+    cmd = [python, script, "--dx", str(dx), "--tf", str(tf), "--map-resolution", *map(str, map_resolution),
+           "--cfl-factor", str(cfl_factor)]
     print(f"# SPlisHSPlasH: LD_PRELOAD={libgl} OMP_NUM_THREADS={env['OMP_NUM_THREADS']} "
           f"OMP_WAIT_POLICY={env['OMP_WAIT_POLICY']} {' '.join(cmd)}", flush=True)
     done = subprocess.run(cmd, capture_output=True, text=True, env=env)
     if done.returncode != 0:
         sys.exit(f"SPlisHSPlasH run failed ({done.returncode}):\n{done.stderr[-2000:]}{done.stdout[-2000:]}")
     out = json.loads(done.stdout.strip().splitlines()[-1])
-    out["code"] += f", tolerance 0.1 %, map {'x'.join(map(str, map_resolution))}"
+    out["code"] += f", tolerance 0.1 %, map {'x'.join(map(str, map_resolution))}, CFL {0.4 * cfl_factor:g} dx"
     return out
 
 
 MAPS = ((20, 20, 20), (40, 40, 20), (80, 80, 20))  # SPlisHSPlasH's default grid, the issue's 40 x 40, finer
+# SPlisHSPlasH's cflFactor (dt = factor 0.4 dx / max |v|): the issue's 1, and the step rule taisph's
+# DFSPH uses (C h / max |v| = 0.5 x 1.3 dx = 0.65 dx: factor 1.625), so that a larger step is
+# not an advantage the peer is denied; the fastest run is kept
+CFL_FACTORS = (1.0, 1.625)
 
 
 def per_second(row):
     return row["sim_step_s"] / row["sim_time"]
 
 
-def compare(python, dx=0.01, tfs=(0.2, 1.0), precision="f64", libgl=None, tolerances=(None,), maps=MAPS):
+def compare(python, dx=0.01, tfs=(0.2, 1.0), precision="f64", libgl=None, tolerances=(None,), maps=MAPS,
+            cfl_factors=CFL_FACTORS):
     """For each end time: taisph (at each tolerance, None: its default), then SPlisHSPlasH with
     each map; print the table and the ratios to the fastest SPlisHSPlasH; return the rows."""
     rows = []
@@ -119,7 +125,7 @@ def compare(python, dx=0.01, tfs=(0.2, 1.0), precision="f64", libgl=None, tolera
     ratios = []
     for tf in tfs:
         ours = [run_taisph(dx, tf, precision, t) for t in tolerances]
-        theirs = [run_splishsplash(python, dx, tf, libgl, m) for m in maps]
+        theirs = [run_splishsplash(python, dx, tf, libgl, m, f) for f in cfl_factors for m in maps]
         for r in (*ours, *theirs):
             print(f"| {r['code']} | {tf:g} | {r['fluid']} | {r['steps']} | {r['dt_mean']:.3g} | "
                   f"{r['density_iterations']:.1f} / {r['divergence_iterations']:.1f} | {r['sim_step_s']:.2f} | "
@@ -144,6 +150,8 @@ def main(argv=None):
                    help="also run taisph at this dfsph_tolerance (e.g. 0.001, the peer's 0.1 %%)")
     p.add_argument("--maps", default="20x20x20,40x40x20,80x80x20",
                    help="SPlisHSPlasH's volume-map grids to try, comma-separated (default %(default)s)")
+    p.add_argument("--cfl-factors", default=",".join(f"{f:g}" for f in CFL_FACTORS),
+                   help="SPlisHSPlasH's cflFactor values to try with each map (default %(default)s)")
     p.add_argument("--precision", choices=["f32", "f64"], default="f64")
     p.add_argument("--libgl", default=None,
                    help=f"preloaded for SPlisHSPlasH ('' for none; default ${LIBGL_ENV}, "
@@ -152,7 +160,7 @@ def main(argv=None):
     maps = [tuple(int(n) for n in m.split("x")) for m in args.maps.split(",")]
     tolerances = (None,) if args.also_tolerance is None else (None, args.also_tolerance)
     compare(splishsplash_python(args.splishsplash_python), args.dx, args.tf, args.precision, args.libgl,
-            tolerances, maps)
+            tolerances, maps, [float(f) for f in args.cfl_factors.split(",")])
 
 
 if __name__ == "__main__":

@@ -20,6 +20,7 @@ Prints a markdown table per part (docs/dfsph.md, "Runs to the end").
 """
 
 import argparse
+import inspect
 import json
 import time
 
@@ -59,13 +60,18 @@ def mean_compression(sim):
 
 
 def dfsph_case(case, **params):
-    scene = getattr(taisph.cases, case)(**params)
+    """The case built for DFSPH: told so if it takes `solver` (drop_on_incline then builds
+    dummy walls instead of its Lennard-Jones walls), then its solver set."""
+    factory = getattr(taisph.cases, case)
+    if "solver" in inspect.signature(factory).parameters:
+        params["solver"] = "dfsph"
+    scene = factory(**params)
     scene.solver = "dfsph"
     return scene
 
 
-def dam_break(dx, t_end=3.0, frames=60):
-    sim = taisph.Simulation(dfsph_case("dam_break", dx=dx))
+def dam_break(dx, t_end=3.0, frames=60, **controls):
+    sim = taisph.Simulation(dfsph_case("dam_break", dx=dx), **controls)
     steps, frame_speed, compression = StepMaxima(), [], []
 
     def sample(s):
@@ -77,7 +83,7 @@ def dam_break(dx, t_end=3.0, frames=60):
     summary = sim.run(t_end, frames=frames, callback=sample, writers=[steps])
     wall = time.perf_counter() - start
     ps = summary.pressure_solve
-    row = dict(case="dam_break", dx=dx, fluid=sim.n_fluid, t=sim.time, steps=summary.steps, wall=wall,
+    row = dict(case="dam_break", dx=dx, courant=sim.controls.courant, fluid=sim.n_fluid, t=sim.time, steps=summary.steps, wall=wall,
                step_speed_max=steps.speed, step_speed_when=steps.when, frame_speed_max=max(frame_speed),
                compression_max=max(compression), density_iterations=ps["density_iterations_mean"],
                density_iterations_max=ps["density_iterations_max"], retries=ps["retries"],
@@ -88,10 +94,10 @@ def dam_break(dx, t_end=3.0, frames=60):
     return row
 
 
-def step_counts(dx, t_end=1.0):
+def step_counts(dx, t_end=1.0, **controls):
     counts = {}
     for frames in (0, 20):
-        sim = taisph.Simulation(dfsph_case("dam_break", dx=dx))
+        sim = taisph.Simulation(dfsph_case("dam_break", dx=dx), **controls)
         summary = sim.run(t_end, frames=frames)
         counts[frames] = summary.steps
         sim.close()
@@ -99,13 +105,14 @@ def step_counts(dx, t_end=1.0):
                 ratio=counts[20] / counts[0])
 
 
-def other(case, t_end, **params):
+def other(case, t_end, controls=None, **params):
+    controls = controls or {}
     if case == "hydrostatic_tank":
-        out = runs.run("hydrostatic_tank", solver="dfsph", t_end=t_end, **params)
+        out = runs.run("hydrostatic_tank", solver="dfsph", t_end=t_end, controls=controls, **params)
         return dict(case=case, t=out.sim_time, steps=out.steps, wall=out.wall, fluid=out.fluid,
                     pressure_rms_mean=out.metrics["rms_mean_second_half"], pressure_rms_end=out.metrics["rms_end"],
                     vmax_over_sqrt_gH=out.metrics["vmax_last_quarter"], outside=out.metrics["particles_outside"])
-    sim = taisph.Simulation(dfsph_case(case, **params))
+    sim = taisph.Simulation(dfsph_case(case, **params), **controls)
     steps = StepMaxima()
     compression = []
     start = time.perf_counter()
@@ -133,21 +140,24 @@ def main(argv=None):
     p.add_argument("--only", nargs="+", default=["dam_break", "step_counts", "dam_break_3d", "drop_on_incline",
                                                  "hydrostatic_tank"])
     p.add_argument("--dx", nargs="+", type=float, default=[0.04, 0.02, 0.01, 0.005])
+    p.add_argument("--courant", type=float, default=None,
+                   help="DFSPH's CFL number C in dt = C h / max |v| (default: the solver's)")
     p.add_argument("--json", default=None, help="write the rows to this file")
     args = p.parse_args(argv)
+    controls = {} if args.courant is None else {"courant": args.courant}
     result = {}
     if "dam_break" in args.only:
-        result["dam_break"] = [dam_break(dx) for dx in args.dx]
+        result["dam_break"] = [dam_break(dx, **controls) for dx in args.dx]
         print(table(result["dam_break"]), flush=True)
     if "step_counts" in args.only:
-        result["step_counts"] = [step_counts(dx) for dx in args.dx if dx >= 0.01]
+        result["step_counts"] = [step_counts(dx, **controls) for dx in args.dx if dx >= 0.01]
         print(table(result["step_counts"]), flush=True)
     others = [("dam_break_3d", 2.0, {}), ("drop_on_incline", None, {}), ("hydrostatic_tank", 10.0, {})]
     rows = []
     for case, t_end, params in others:
         if case in args.only:
             t_end = t_end if t_end is not None else getattr(taisph.cases, case)().t_end
-            rows.append(other(case, t_end, **params))
+            rows.append(other(case, t_end, controls, **params))
             print(table(rows[-1:]), flush=True)
     result["others"] = rows
     if args.json:
