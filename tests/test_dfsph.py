@@ -101,18 +101,20 @@ def test_a_solve_that_does_not_converge_stops_the_run_and_says_why(tmp_path):
 
 
 def test_a_solve_that_ends_within_the_bound_is_kept_and_counted(tmp_path):
-    """Issue 25 (2): with 20 iterations at most, 4 of the dam break's 56 steps (dx = 0.04, to
-    0.3 s) end above the 0.02 % tolerance, the worst at 7.5 times it: within the bound of 10
-    the run goes on and its summary says how many and how far; with a bound of 5 (and no
-    retries) it stops."""
-    summary = taisph.Simulation(dfsph_scene(dx=0.04), dfsph_max_iterations=20).run(0.3, frames=1)
+    """Issue 25 (2): with 12 iterations at most, 4 of the dam break's steps (dx = 0.04, to
+    0.3 s) end above the 0.02 % tolerance, the worst at 6.7 times it (measured with the
+    Chebyshev-accelerated solve; 20 iterations were needed for the same with plain Jacobi):
+    within the bound of 10 the run goes on and its summary says how many and how far; with a
+    bound of 5 (and no retries) and 10 iterations it stops."""
+    summary = taisph.Simulation(dfsph_scene(dx=0.04), dfsph_max_iterations=12).run(0.3, frames=1)
     ps = summary.pressure_solve
     assert summary.sim_time == pytest.approx(0.3)
     assert 1 <= ps["steps_above_tolerance"] < summary.steps
     assert 1 < ps["worst_over_tolerance"] <= 10
     assert ps["density_error_max"] == pytest.approx(ps["worst_over_tolerance"] * 0.0002)
     assert f"{ps['steps_above_tolerance']} steps kept with a solve above its tolerance (worst" in str(summary)
-    sim = taisph.Simulation(dfsph_scene(dx=0.04), dfsph_max_iterations=20, dfsph_error_bound=5, dfsph_retries=0)
+    # 10 iterations: with frames (other step sizes) some solve ends beyond 5 times the tolerance
+    sim = taisph.Simulation(dfsph_scene(dx=0.04), dfsph_max_iterations=10, dfsph_error_bound=5, dfsph_retries=0)
     with pytest.raises(taisph.run.simulation.SimulationError) as err:
         sim.run(0.3, out=tmp_path)
     assert "kept up to 5 times that" in str(err.value)
@@ -222,8 +224,8 @@ def test_memory_and_pair_list_capacity():
     sim = taisph.Simulation(dfsph_scene(dx=0.1))
     k = pairs.capacity(sim.scene)
     assert k == 32  # 2D, h = 1.3 dx: 20 neighbours on the lattice, 21.2 in a disc
-    # 6 vectors, 8 scalars, 3 integers (current, sorted, last good), cell, list count and entries
-    assert sim.bytes_per_particle() == 3 * (6 * 16 + 8 * 8 + 3 * 4) + 4 + 4 + 32 * 12 == 908
+    # 6 vectors, 9 scalars (kappa_prev: the Chebyshev iteration), 3 integers (current, sorted, last good), cell, list count and entries
+    assert sim.bytes_per_particle() == 3 * (6 * 16 + 9 * 8 + 3 * 4) + 4 + 4 + 32 * 12 == 932
 
 
 def test_the_rest_density_is_the_lattice_s():

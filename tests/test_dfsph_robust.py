@@ -21,11 +21,12 @@ def dfsph_scene(case="dam_break", **params):
 
 
 def traced_errors(sim):
-    """Record the mean error after every iteration of the next solves into a list."""
+    """Record the mean error after every iteration of the next solves into a list (plain
+    Jacobi iterations: the Chebyshev weights are not set)."""
     stepper = sim.pressure_solve
     errors = []
 
-    def solve(iterate, t_target, tolerance, minimum, maximum):
+    def solve(iterate, t_target, tolerance, minimum, maximum, accelerate=False):
         count = 0
         while True:
             iterate(t_target)

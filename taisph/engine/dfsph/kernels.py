@@ -182,6 +182,7 @@ class Bodies:
                 begin, end = _chunk(s.sizes[st.N_PARTICLES], c)
                 error = ti.cast(0.0, ti.f64)
                 count = 0
+                weight = ti.cast(x.result[2], real)  # the Chebyshev weight of this iteration (1: plain Jacobi)
                 for i in range(begin, end):
                     if s.Si[q.kind, i] == FLUID:
                         xi = s.Sv[q.position, i]
@@ -205,8 +206,17 @@ class Bodies:
                         if s.Ss[row, i] > 0.0:
                             compression = ti.abs(residual) / rho0
                         if dt > 0.0:  # projected Jacobi: a pressure may fall, not below zero
-                            s.Ss[row, i] = ti.max(0.0, s.Ss[row, i] + s.params[p["dfsph_relaxation"]] * residual
-                                                  * s.Ss[q.alpha, i] / scale)
+                            k_old = s.Ss[row, i]
+                            k_new = ti.max(0.0, k_old + s.params[p["dfsph_relaxation"]] * residual
+                                           * s.Ss[q.alpha, i] / scale)
+                            if ti.static(density):
+                                # Chebyshev semi-iteration (weight w > 1, set by the host; 0 or 1: plain Jacobi): the new
+                                # pressure over-shoots along the last two iterates' direction
+                                if weight > 1.0:
+                                    previous = s.Ss[q.kappa_prev, i]
+                                    k_new = ti.max(0.0, previous + weight * (k_new - previous))
+                                s.Ss[q.kappa_prev, i] = k_old
+                            s.Ss[row, i] = k_new
                         if ti.static(not density):
                             compression *= dt
                         error += ti.cast(compression, ti.f64)

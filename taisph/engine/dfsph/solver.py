@@ -40,7 +40,8 @@ Both solves are Jacobi iterations: each iteration computes a(k) for every partic
        k_i <- max(0, k_i + omega r_i / (dt^n D_i)),     n = 1 (divergence), 2 (density),
 
 omega = min(0.5, 2.3 / sqrt(neighbours)) (:func:`relaxation`: 0.5 in 2D, 0.27 in
-3D with h = 1.3 dx; a projected Jacobi iteration: pressures may fall, never below zero), r_i
+3D with h = 1.3 dx; a projected Jacobi iteration: pressures may fall, never below zero;
+a density solve that runs past 8 iterations is Chebyshev-accelerated, :mod:`.chebyshev`), r_i
 the predicted density rate (divergence) or the predicted density minus the rest
 density (the lattice's, :func:`lattice_ratio`; a particle short of it, as at a free
 surface, must keep its density instead); an iteration is one kernel launch, and the
@@ -85,6 +86,7 @@ from .. import kernels, neighbours, smoothing
 from .. import status as st
 from ...eos import tait
 from ..layout import FLUID
+from .chebyshev import Chebyshev
 from .kernels import CHUNKS, Bodies  # noqa: F401 (CHUNKS: the size of the error sums' field)
 
 # Runtime parameters of the solve: values derived per scene (parameter_values), read by
@@ -146,8 +148,8 @@ def rows(has_shift: bool, wall_velocity: bool):
     acceleration, the predicted velocity v*, the XSPH shift and the walls' no-slip
     velocity if a kept term needs them."""
     vectors = ["v_pred", "vstar", "gsum"] + (["shift"] if has_shift else []) + (["wall_velocity"] if wall_velocity else [])
-    scalars = ["kappa", "kappa_v", "alpha", "source"] + (["wall_weight"] if wall_velocity else [])
-    derived = ["v_pred", "vstar", "gsum", "shift", "wall_velocity", "wall_weight", "alpha", "source"]
+    scalars = ["kappa", "kappa_v", "kappa_prev", "alpha", "source"] + (["wall_weight"] if wall_velocity else [])
+    derived = ["v_pred", "vstar", "gsum", "shift", "wall_velocity", "wall_weight", "alpha", "source", "kappa_prev"]
     return vectors, scalars, derived
 
 
@@ -275,10 +277,11 @@ class Stepper:
         s.max_density_error = s.max_divergence_error = 0.0
         s.window_above_tolerance, s.worst_over_tolerance, s.window_retries = 0, 0.0, 0
 
-    def _solve(self, iterate, t_target, tolerance, minimum, maximum):
+    def _solve(self, iterate, t_target, tolerance, minimum, maximum, accelerate=False):
         result = self.result
         count = 0
         error = 0.0
+        cheb = Chebyshev() if accelerate else None  # the weights of the density solve's iterations
         while True:
             iterate(t_target)
             count += 1
@@ -287,6 +290,13 @@ class Stepper:
                 break
             if count >= maximum:
                 break
+            if cheb is not None:
+                weight = cheb.next(error)
+                if weight != cheb.sent:
+                    result[2] = weight
+                    cheb.sent = weight
+        if cheb is not None and cheb.sent != 1.0:
+            result[2] = 1.0
         self.stats.round_trips += count
         return count, float(error)
 
@@ -329,7 +339,7 @@ class Stepper:
         self.middle(t_target)
         if dt > 0.0:
             k, err = self._solve(self.density_iteration, t_target, c.dfsph_tolerance, c.dfsph_min_iterations,
-                                 c.dfsph_max_iterations)
+                                 c.dfsph_max_iterations, accelerate=True)
             judged = self._judge("density", k, err, c.dfsph_tolerance, c.dfsph_error_bound)
             outcome = max(outcome, judged)
             s.density_iterations += k
