@@ -191,7 +191,7 @@ def test_drop_on_incline_runs_with_dfsph_on_dummy_walls():
     outside the container, the mean compression within 0.1 % at the end, the energy
     (kinetic + potential) not growing (from 2087 J/m it falls to 1766, measured; WCSPH
     with its Lennard-Jones walls, to 1439), mass kept."""
-    from cases.drop_on_incline import height_above_plane
+    from taisph.cases.drop_on_incline import height_above_plane
 
     scene = taisph.cases.drop_on_incline(dx=0.02, solver="dfsph")
     assert scene.solver == "dfsph" and "dummy_walls" in [t.name for t in scene.terms]
