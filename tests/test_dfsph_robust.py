@@ -26,10 +26,10 @@ def traced_errors(sim):
     stepper = sim.pressure_solve
     errors = []
 
-    def solve(iterate, t_target, tolerance, minimum, maximum, accelerate=False):
+    def solve(iterate, t_target, tolerance, minimum, maximum, accelerate=False, first=None):
         count = 0
         while True:
-            iterate(t_target)
+            (first if count == 0 and first is not None else iterate)(t_target)
             count += 1
             errors.append(float(stepper.result[0]))
             if (count >= minimum and errors[-1] <= tolerance) or count >= maximum:

@@ -148,7 +148,7 @@ class Bodies:
 
         return acceleration
 
-    def iteration(self, density: bool):
+    def iteration(self, density: bool, first: bool = False):
         """One Jacobi iteration of the divergence (density False) or constant-density
         solve: the velocity every fluid particle would have with the current pressures,
         u = v + dt a(k) (v* + dt a(k) for the density), then the residuals, the updates
@@ -167,6 +167,7 @@ class Bodies:
         row = q.kappa if density else q.kappa_v
         base = q.vstar if density else q.velocity
         rho0_col = self.solver.eos.m.rho0
+        forces = self._non_pressure() if first else None
 
         @ti.func
         def body(s_mem: ti.template(), t_target):
@@ -174,7 +175,10 @@ class Bodies:
             dt0 = ti.cast(s_mem.status[st.DT], real)
             for i in range(s_mem.sizes[st.N_PARTICLES]):
                 if s_mem.Si[q.kind, i] == FLUID:
-                    s_mem.Sv[q.v_pred, i] = s_mem.Sv[base, i] + dt0 * acceleration(s_mem, i, row)
+                    if ti.static(first):  # v*, the source and v + dt a(k) in one walk of i's pairs
+                        s_mem.Sv[q.v_pred, i] = forces(s_mem, i, dt0)
+                    else:
+                        s_mem.Sv[q.v_pred, i] = s_mem.Sv[base, i] + dt0 * acceleration(s_mem, i, row)
             for c in range(CHUNKS):
                 s = ti.static(s_mem._replace(params=local(s_mem)))
                 dt = ti.cast(s.status[st.DT], real)
@@ -229,22 +233,65 @@ class Bodies:
 
         return body
 
-    # --- between the solves ---------------------------------------------------------------
-    def middle(self):
-        """v += dt a(kv) (the divergence solve's result); the walls' no-slip velocity;
-        the non-pressure forces and v*; the density beyond the rest density (the
-        constant-density solve's source, with the change v* predicts: :meth:`iteration`)."""
+    # --- the non-pressure forces and the first density iteration ----------------------------
+    def _non_pressure(self):
+        """ti.func(s, i, dt) -> v*_i + dt a_i(k): step 3 for fluid particle i (its non-pressure
+        forces, v* = v + dt a and the XSPH shift; the density beyond the rest density, the
+        density solve's source, which a particle short of it, as at a free surface, keeps at
+        zero: it must not be compressed either), in the same walk of i's pair list as the
+        first density iteration's pressure acceleration a_i(k) (docs/dfsph.md, "Where the
+        time goes"). Each sum runs in the order of the list, as in a walk of its own."""
         solver = self.solver
-        q, plist, x = self.q, self.plist, self.x
+        q, grid, f = self.q, self.grid, self.x.pairs
         dim, real = self.dim, self.real
         p = self.p
         local = self.local
-        acceleration = self._acceleration()
         visitor = NonPressure(solver)
         body_terms = [t for t in solver.terms if t.has_body]
         Rates = solver.Rates
         rho0_col = solver.eos.m.rho0
-        wall_velocity, has_shift = self.wall_velocity, self.has_shift
+        has_shift = self.has_shift
+
+        @ti.func
+        def forces(s_mem: ti.template(), i, dt):
+            s = ti.static(s_mem._replace(params=local(s_mem)))
+            rates = Rates(acc=ti.Vector.zero(real, dim))
+            for t in ti.static(body_terms):
+                ti.static(kernels._traced(t.name, "body"))
+                t.body(s, i, rates)
+            # the force limit of dt follows the body forces (gravity): the viscous
+            # terms have their own limit, 0.125 h^2 / nu (timestep.py)
+            acc2 = ti.cast(rates.acc.norm_sqr(), ti.f64)
+            if acc2 > s.status[st.MAX_ACC2]:
+                ti.atomic_max(s.status[st.MAX_ACC2], acc2)
+            xi = s.Sv[q.position, i]
+            a = -s.Ss[q.kappa, i] * s.Sv[q.gsum, i]
+            for k in range(f.count[i]):
+                j = f.nbr[i, k]
+                rij = grid.separation(s, xi, s.Sv[q.position, j])
+                coef = f.coef[i, k]
+                visitor.visit(s, i, j, rij, rij.norm_sqr(), coef, rates)
+                a -= (coef * s.Ss[q.kappa, j]) * rij
+            vstar = s.Sv[q.velocity, i] + dt * rates.acc
+            s.Sv[q.vstar, i] = vstar
+            if ti.static(has_shift):
+                s.Sv[q.shift, i] = rates.shift
+            rest = s.mat[s.Si[q.material, i], rho0_col] * s.params[p["dfsph_rest_ratio"]]
+            s.Ss[q.source, i] = ti.max(s.Ss[q.density, i] - rest, 0.0)
+            return vstar + dt * a
+
+        return forces
+
+    # --- between the solves ---------------------------------------------------------------
+    def middle(self):
+        """v += dt a(kv) (the divergence solve's result) and the walls' no-slip velocity,
+        which the non-pressure forces of the first density iteration use (:meth:`_non_pressure`)."""
+        q = self.q
+        real = self.real
+        p = self.p
+        x = self.x
+        acceleration = self._acceleration()
+        wall_velocity = self.wall_velocity
 
         @ti.func
         def body(s_mem: ti.template(), t_target):
@@ -266,28 +313,6 @@ class Bodies:
                         if weight > 0.0:
                             ghost = 2.0 * ghost - s_mem.Sv[q.wall_velocity, i] / weight
                         s_mem.Sv[q.wall_velocity, i] = ghost
-            for i in range(s_mem.sizes[st.N_PARTICLES]):
-                if s_mem.Si[q.kind, i] == FLUID:
-                    s = ti.static(s_mem._replace(params=local(s_mem)))
-                    rates = Rates(acc=ti.Vector.zero(real, dim))
-                    for t in ti.static(body_terms):
-                        ti.static(kernels._traced(t.name, "body"))
-                        t.body(s, i, rates)
-                    # the force limit of dt follows the body forces (gravity): the viscous
-                    # terms have their own limit, 0.125 h^2 / nu (timestep.py)
-                    acc2 = ti.cast(rates.acc.norm_sqr(), ti.f64)
-                    if acc2 > s.status[st.MAX_ACC2]:
-                        ti.atomic_max(s.status[st.MAX_ACC2], acc2)
-                    xi = s.Sv[q.position, i]
-                    plist.for_each(s, i, xi, visitor, rates)
-                    s.Sv[q.vstar, i] = s.Sv[q.velocity, i] + dt * rates.acc
-                    if ti.static(has_shift):
-                        s.Sv[q.shift, i] = rates.shift
-                    # the density beyond the rest density, which the density solve removes with the
-                    # predicted change (a particle short of it, as at a free surface, keeps its
-                    # density: it must not be compressed either)
-                    rest = s.mat[s.Si[q.material, i], rho0_col] * s.params[p["dfsph_rest_ratio"]]
-                    s.Ss[q.source, i] = ti.max(s.Ss[q.density, i] - rest, 0.0)
 
         return body
 

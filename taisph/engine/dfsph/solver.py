@@ -28,7 +28,8 @@ fluid and wall particles; ``g_ij = m_j grad_i W_ij``):
    state (gravity, laminar and artificial viscosity, XSPH; :data:`taisph.scene.solvers.DFSPH_KEPT`), and the
    hydrostatic head of the walls: a mirrored wall particle b has the pressure
    p_i + rho_i g . (x_b - x_i) (Adami et al. 2012 eq. 27), whose part beyond p_i is
-   known, a_i += sum_wall g_ib (g . r_ib) / rho_i. Then v* = v + dt a_nonpressure;
+   known, a_i += sum_wall g_ib (g . r_ib) / rho_i. Then v* = v + dt a_nonpressure
+   (summed in the first density iteration's walk of the pair list: one walk less);
 4. the constant-density solve (BK17 algorithm 3): pressures k_i such that the
    predicted density rho*_i + dt^2 sum_j g_ij . (a_i(k) - a_j(k)), with
    rho*_i = rho_i + dt sum_j g_ij . (v*_i - v*_j), is <= rho0;
@@ -258,6 +259,8 @@ class Stepper:
         self.divergence_iteration = make(bodies.iteration(density=False))(args)
         self.middle = make(bodies.middle())(args)
         self.density_iteration = make(bodies.iteration(density=True))(args)
+        # the first with the non-pressure forces (step 3) in the same walk of the pairs
+        self.first_density_iteration = make(bodies.iteration(density=True, first=True))(args)
         self.final = make(bodies.final())(args)
         self.status, self.result = args.status, fields.extra.result
         self.params, self.dt_max_row = args.params, solver.param_rows["dt_max"]
@@ -277,13 +280,14 @@ class Stepper:
         s.max_density_error = s.max_divergence_error = 0.0
         s.window_above_tolerance, s.worst_over_tolerance, s.window_retries = 0, 0.0, 0
 
-    def _solve(self, iterate, t_target, tolerance, minimum, maximum, accelerate=False):
+    def _solve(self, iterate, t_target, tolerance, minimum, maximum, accelerate=False, first=None):
+        """Iterate to `tolerance` (`minimum`..`maximum` times); `first`: the first iteration's kernel."""
         result = self.result
         count = 0
         error = 0.0
         cheb = Chebyshev() if accelerate else None  # the weights of the density solve's iterations
         while True:
-            iterate(t_target)
+            (first if count == 0 and first is not None else iterate)(t_target)
             count += 1
             error = result[0]
             if count >= minimum and error <= tolerance:
@@ -337,9 +341,11 @@ class Stepper:
             if outcome < 2:  # the errors of the solves kept (a failed one is in stats.failure)
                 s.max_divergence_error = max(s.max_divergence_error, err)
         self.middle(t_target)
+        if dt <= 0.0:  # no solve (the bootstrap): the first iteration's forces, v* and maxima all the same
+            self.first_density_iteration(t_target)
         if dt > 0.0:
             k, err = self._solve(self.density_iteration, t_target, c.dfsph_tolerance, c.dfsph_min_iterations,
-                                 c.dfsph_max_iterations, accelerate=True)
+                                 c.dfsph_max_iterations, accelerate=True, first=self.first_density_iteration)
             judged = self._judge("density", k, err, c.dfsph_tolerance, c.dfsph_error_bound)
             outcome = max(outcome, judged)
             s.density_iterations += k
