@@ -12,12 +12,7 @@ import taisph
 from taisph.engine import guards
 from taisph.engine import status as st
 from taisph.run.simulation import SimulationError
-
-
-def dfsph_scene(case="dam_break", **params):
-    scene = getattr(taisph.cases, case)(**params)
-    scene.solver = "dfsph"
-    return scene
+from test_dfsph import dfsph_scene, mean_compression
 
 
 def traced_errors(sim):
@@ -245,12 +240,8 @@ def run_dam_break_to_the_end(dx, t_end=3.0, frames=30):
     compressions) where a frame's compression is the mean over the fluid of max(rho/rho0 - 1, 0)."""
     sim = taisph.Simulation(dfsph_scene(dx=dx))
     maxima, compression = StepMaxima(), []
-
-    def sample(s):
-        rho = s.density()[s.fluid]
-        compression.append(float(np.mean(np.maximum(rho / 1000.0 - 1.0, 0.0))))
-
-    summary = sim.run(t_end, frames=frames, callback=sample, writers=[maxima])
+    summary = sim.run(t_end, frames=frames, callback=lambda s: compression.append(mean_compression(s)),
+                      writers=[maxima])
     return sim, summary, maxima.speed, compression
 
 
@@ -286,9 +277,7 @@ def test_dam_break_3d_runs_to_2_s():
     the flow's speed (measured 10.6 m/s), compression within 0.1 % (0.006 %), mass accounted."""
     sim = taisph.Simulation(dfsph_scene("dam_break_3d"))
     maxima, compression = StepMaxima(), []
-    summary = sim.run(2.0, frames=10, writers=[maxima],
-                      callback=lambda s: compression.append(
-                          float(np.mean(np.maximum(s.density()[s.fluid] / 1000.0 - 1.0, 0.0)))))
+    summary = sim.run(2.0, frames=10, writers=[maxima], callback=lambda s: compression.append(mean_compression(s)))
     assert summary.sim_time == pytest.approx(2.0)
     assert maxima.speed <= 1.5 * PHYSICAL_SPEED and max(compression) <= 1e-3
     initial = float(sim.scene.mass[sim.scene.kind == taisph.FLUID].sum())
