@@ -33,11 +33,10 @@ DIVERGING = 2.0  # an error above this many times the solve's best: back to plai
 
 class Chebyshev:
     """The weights of one solve: :meth:`next` takes the error of the iteration just made and
-    returns the weight of the next (1: plain Jacobi). ``sent`` is the weight the device holds."""
+    returns the weight of the next (1: plain Jacobi)."""
 
     def __init__(self):
         self.errors = []
-        self.sent = 1.0
         self.rho2 = None  # rho^2, once estimated
         self.weight = 1.0
         self.best = math.inf

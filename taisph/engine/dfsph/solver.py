@@ -286,6 +286,7 @@ class Stepper:
         count = 0
         error = 0.0
         cheb = Chebyshev() if accelerate else None  # the weights of the density solve's iterations
+        sent = 1.0  # the weight the device holds (result[2]; 1: plain Jacobi)
         while True:
             (first if count == 0 and first is not None else iterate)(t_target)
             count += 1
@@ -294,12 +295,9 @@ class Stepper:
                 break
             if count >= maximum:
                 break
-            if cheb is not None:
-                weight = cheb.next(error)
-                if weight != cheb.sent:
-                    result[2] = weight
-                    cheb.sent = weight
-        if cheb is not None and cheb.sent != 1.0:
+            if cheb is not None and (weight := cheb.next(error)) != sent:
+                result[2] = sent = weight
+        if sent != 1.0:
             result[2] = 1.0
         self.stats.round_trips += count
         return count, float(error)
@@ -343,7 +341,7 @@ class Stepper:
         self.middle(t_target)
         if dt <= 0.0:  # no solve (the bootstrap): the first iteration's forces, v* and maxima all the same
             self.first_density_iteration(t_target)
-        if dt > 0.0:
+        else:
             k, err = self._solve(self.density_iteration, t_target, c.dfsph_tolerance, c.dfsph_min_iterations,
                                  c.dfsph_max_iterations, accelerate=True, first=self.first_density_iteration)
             judged = self._judge("density", k, err, c.dfsph_tolerance, c.dfsph_error_bound)
