@@ -25,6 +25,21 @@ def test_metrics_of_the_experiment_against_itself():
     assert dry["mae"] == pytest.approx(np.abs(P[inside]).mean()) and math.isnan(dry["impact_T"])
 
 
+def test_probe_noise_measures_ringing_not_the_load():
+    """The noise figure (rms of P minus its 0.02-T moving average after the impact): a
+    smooth load reads 0 (a ramp, to round-off); a ringing of amplitude A
+    and period 0.004 in T (five periods per window, so the average removes it) reads
+    A / sqrt(2) within 2 %; unevenly spaced samples (an adaptive step) give the same."""
+    rng = np.random.default_rng(3)
+    T = np.sort(np.concatenate([np.linspace(2.0, 6.0, 40001), rng.uniform(2.0, 6.0, 5000)]))
+    load = np.clip(T - 2.4, 0.0, None)
+    assert buchner.compare(T, load, "P1")["noise"] < 1e-7
+    A = 0.2
+    ringing = buchner.compare(T, load + A * np.sin(2 * np.pi * T / 0.004), "P1")
+    assert ringing["noise"] == pytest.approx(A / math.sqrt(2), rel=0.02)
+    assert ringing["peak"] == pytest.approx(6.0 - 2.4 - 0.005, abs=1e-3)  # at T = 6 the window is [5.99, 6]
+
+
 def test_p1_impact_time_at_coarse_resolution():
     """dx = 0.03 m (H/dx = 20) to T = 3.2, the example's settings: the surge reaches
     P1 (P = 0.1 rho g H) within 5 % of the experiment's T = 2.478 (measured T = 2.550,

@@ -22,7 +22,13 @@ Metrics (:func:`compare`), from the probe's samples (every step):
   interpolation between samples; experiment, P1: 2.479);
 - ``mae``: the mean over the samples with T in [2, 6] of |P - P_exp(T)|, P_exp
   interpolated linearly between the experimental points (the sensor is dry before
-  the surge: a probe that reads no value counts as P = 0, the pressure of the air).
+  the surge: a probe that reads no value counts as P = 0, the pressure of the air);
+- ``noise``: the rms over the samples from the impact to the window's end (where the
+  average's window lies within the series) of P minus
+  its moving average over 0.02 in T (:func:`moving_average`): the acoustic ringing and
+  particle noise a smooth load would not have (issue 26's bar: 0.05 on P1);
+- ``peak``, ``peak_ref``: the largest value of that moving average in the window, and
+  of the experiment's (the first impact's peak on P1).
 
     >>> from taisph.validation import buchner
     >>> out = buchner.run(dx=0.01)              # doctest: +SKIP
@@ -46,6 +52,7 @@ DATA = Path(__file__).resolve().parent / "references" / "data"
 H, G, RHO0 = 0.6, 9.81, 1000.0
 IMPACT_LEVEL = 0.1  # P at which the impact is timed
 WINDOW = (2.0, 6.0)  # T range of the mean absolute error
+NOISE_WIDTH = 0.02  # T width of the moving average the probe noise is measured against (issue 26)
 SENSORS = ("P1", "P2")
 # the scene file's probes compared, and the sensor each one is compared with
 PROBES = {"P1": "P1", "P2": "P2", "P1_point": "P1", "P2_point": "P2"}
@@ -82,8 +89,31 @@ def compare(T, P, sensor: str = "P1", window=WINDOW) -> dict:
     inside = (T >= window[0]) & (T <= min(window[1], T_ref[-1]))
     mae = float(np.mean(np.abs(P[inside] - np.interp(T[inside], T_ref, P_ref)))) if inside.any() else math.nan
     impact, impact_ref = impact_time(T, P), impact_time(T_ref, P_ref)
+    # after the impact, where the moving average's window is whole
+    whole = (T - NOISE_WIDTH / 2 >= T[0]) & (T + NOISE_WIDTH / 2 <= T[-1]) if len(T) else inside
+    wet = inside & whole & (T >= impact) if not math.isnan(impact) else np.zeros_like(inside)
+    smooth = moving_average(T, P)
+    noise = float(np.sqrt(np.mean((P[wet] - smooth[wet]) ** 2))) if wet.any() else math.nan
+    peak = float(smooth[inside].max()) if inside.any() else math.nan
     return dict(impact_T=impact, impact_T_ref=impact_ref, impact_error=impact / impact_ref - 1.0, mae=mae,
+                noise=noise, peak=peak, peak_ref=float(moving_average(T_ref, P_ref).max()),
                 window=(float(window[0]), float(T[inside][-1]) if inside.any() else math.nan))
+
+
+def moving_average(T, P, width: float = NOISE_WIDTH):
+    """P averaged over [T - width/2, T + width/2] (samples at any spacing: the difference of
+    P's running integral, trapezoidal, interpolated at the window's ends; the window is cut
+    at the series' ends)."""
+    T, P = np.asarray(T, float), np.nan_to_num(np.asarray(P, float))
+    if len(T) < 2:
+        return P.copy()
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (P[1:] + P[:-1]) * np.diff(T))])
+    lo, hi = np.maximum(T - width / 2, T[0]), np.minimum(T + width / 2, T[-1])
+    span = hi - lo
+    out = P.copy()
+    ok = span > 0
+    out[ok] = (np.interp(hi[ok], T, integral) - np.interp(lo[ok], T, integral)) / span[ok]
+    return out
 
 
 def run(dx: float = 0.01, t_end: float | None = None, out=None, overrides: dict | None = None, **controls) -> dict:
