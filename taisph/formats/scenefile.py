@@ -133,7 +133,7 @@ def _check_grid(spec, scene):
 # the keys that choose a term of a built scene (its refusal names that key)
 _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].model", "gravity": "physics.gravity",
               "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
-              "continuity_colagrossi": "materials", "pressure_hu_adams": "materials"}
+              "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation"}
 
 
 def _validate(spec, scene):
@@ -156,6 +156,7 @@ def _validate(spec, scene):
                 break
         values = {"walls[0].model": spec.wall_model, "physics.gravity": list(spec.gravity), "physics.alpha": spec.alpha,
                   "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
+                  "physics.formulation": spec.formulation,
                   "materials": [m["name"] for m in spec.materials]}
         raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
 
@@ -175,10 +176,17 @@ def _wall_note(spec, block, group, removed):
 def _terms(spec, g, height, speed):
     """The scene's terms; gravity `g`, the fluid's `height` and its fastest initial
     `speed` scale the Lennard-Jones force."""
-    from ..terms import AdamiWall, ArtificialViscosity, Continuity, ContinuityColagrossi, DensityDiffusion, Gravity, LennardJonesWall, PressureGradient, PressureHuAdams, XSPH
+    from ..terms import (XSPH, AdamiWall, ArtificialViscosity, Continuity, ContinuityColagrossi, DensityDiffusion,
+                         Gravity, LennardJonesWall, PressureGradient, PressureHuAdams, Riemann)
 
     dummy = spec.wall_model == "dummy"
-    if spec.multiphase:
+    if spec.formulation == "riemann" and spec.multiphase:
+        raise SceneFileError(f"{spec.path}: physics.formulation = 'riemann': fluids of different rho0 need the "
+                             "sharp-interface terms (Hu & Adams, Colagrossi & Landrini); the Riemann formulation "
+                             "takes one fluid: leave formulation out")
+    if spec.formulation == "riemann":
+        terms = [Riemann(walls=dummy)]
+    elif spec.multiphase:
         terms = [ContinuityColagrossi(), PressureHuAdams()]
     else:
         terms = [Continuity(walls=dummy), PressureGradient(walls=dummy)]

@@ -14,10 +14,7 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 from pathlib import Path
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - Python 3.10 (the tomli dependency)
-    import tomli as tomllib
+tomllib = __import__("tomllib" if sys.version_info >= (3, 11) else "tomli")  # tomli: Python 3.10's dependency
 
 import numpy as np
 
@@ -28,7 +25,7 @@ from ..messages import InputError
 from ..probes.spec import KINDS, Probe, outside  # noqa: F401  (Probe: what [[probes]] become)
 from ..scene.names import UP
 from ..scene.parameters import (BYTES_PER_PARTICLE, Range, courant_number, diffusion_delta, end_time, finite,
-                                gravity_component, integer, known_integrator, known_kernel, known_solver,
+                                gravity_component, integer, known_formulation, known_integrator, known_kernel, known_solver,
                                 memory_shortage, one_of, output_frames, positive, reference_density, smoothing_factor,
                                 speed_of_sound, tait_exponent, velocity_component, viscosity_alpha, xsph_epsilon)
 
@@ -44,14 +41,14 @@ RANGES = {
     "physics.delta": diffusion_delta, "physics.xsph": xsph_epsilon, "rho0": reference_density, "c0": speed_of_sound,
     "gamma": tait_exponent, "velocity": velocity_component, "scale": positive, "model": one_of("dummy", "lj"),
     "kind": one_of(*KINDS), "every": integer(at_least=1), "walls.kind": one_of(*WALL_KINDS),
-}
+    "physics.formulation": known_formulation}
 # The values of the keys a file may leave out (gravity: (0, -9.81) or (0, -9.81, 0))
 DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1,
             "physics.delta": 0.1, "physics.xsph": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor",
             "dt", "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", *timestep.SETTABLE}
-PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph"}
+PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation"}
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic"}
@@ -108,6 +105,7 @@ class SceneSpec:
     alpha: float
     delta: float
     xsph: float
+    formulation: str  # names.FORMULATIONS: "symmetric" or "riemann" (alpha and delta then default to 0)
     materials: list  # of dicts: name, rho0, c0 (None: default), gamma
     fluid: list
     walls: list
@@ -236,6 +234,7 @@ class _Checker:
                    for k in ("dim", "dx", "t_end", "frames", "h_factor")}
         dim = numbers["dim"]
         gravity = physics.get("gravity", [0.0, -9.81] + [0.0] * (dim - 2))
+        own = {"alpha": 0.0, "delta": 0.0} if physics.get("formulation") == "riemann" else {}  # its own dissipation
         spec = SceneSpec(
             path=self.path,
             name=self.text("name", data.get("name", _MISSING)),
@@ -246,8 +245,9 @@ class _Checker:
             controls={k: self.number(k, data[k], timestep.SETTABLE[k]) for k in timestep.SETTABLE if k in data},
             remove_escaped=self.flag("remove_escaped", data.get("remove_escaped", _MISSING), True),
             gravity=self.vector("physics.gravity", gravity, dim, RANGES["physics.gravity"]),
-            **{k: self.number(f"physics.{k}", physics.get(k, DEFAULTS[f"physics.{k}"]), RANGES[f"physics.{k}"])
+            **{k: self.number(f"physics.{k}", physics.get(k, own.get(k, DEFAULTS[f"physics.{k}"])), RANGES[f"physics.{k}"])
                for k in ("alpha", "delta", "xsph")},
+            formulation=self.choice("physics.formulation", physics.get("formulation", "symmetric"), known_formulation),
             materials=self.materials(data.get("materials", [{"name": "water"}])),
             fluid=[], walls=[], probes=[],
         )

@@ -6,4 +6,8 @@ these, in this order: the order every message lists them in)."""
 SOLVERS = ("wcsph", "dfsph")  # weakly compressible; divergence-free SPH (docs/dfsph.md)
 INTEGRATORS = ("euler", "eulermid", "eulermom", "pc")  # eulermom: the seed's name for eulermid
 KERNELS = ("spline", "gaussian", "wendland")
+# the weakly compressible solver's continuity and pressure terms: Monaghan's symmetric form (with
+# artificial viscosity and density diffusion), or a Riemann solver between each pair
+# (taisph.terms.riemann), whose own dissipation replaces both (alpha and delta then default to 0)
+FORMULATIONS = ("symmetric", "riemann")
 UP = 1  # the vertical axis, y, in 2D and 3D: gravity points along -UP, tanks open at +UP

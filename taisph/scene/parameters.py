@@ -26,7 +26,7 @@ import numbers
 import os
 
 from ..messages import InputError
-from .names import INTEGRATORS, KERNELS, SOLVERS
+from .names import FORMULATIONS, INTEGRATORS, KERNELS, SOLVERS
 
 
 class ParameterError(InputError):
@@ -194,6 +194,7 @@ def one_of(*choices) -> OneOf:
 known_kernel = one_of(*KERNELS)
 known_integrator = one_of(*INTEGRATORS)
 known_solver = one_of(*SOLVERS)
+known_formulation = one_of(*FORMULATIONS)
 
 
 class Flag(Range):

@@ -16,6 +16,7 @@ from .pressure_gradient import PressureGradient
 from .smoothing_length import AdaptiveSmoothingLength
 from .summation_density import SummationDensity
 from .pressure_hu_adams import PressureHuAdams
+from .riemann import Riemann
 from .xsph import XSPH
 
 __all__ = [
@@ -37,4 +38,5 @@ __all__ = [
     "LaminarViscosity",
     "DensityDiffusion",
     "ParticleShifting",
+    "Riemann",
 ]

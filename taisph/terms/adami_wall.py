@@ -56,8 +56,9 @@ class AdamiWall(Term):
         if scene.n_wall == 0:
             raise InputError("dummy_walls: the scene has no wall particles")
         terms = scene.terms_by_name
+        riemann = terms.get("riemann")  # the Riemann formulation: continuity and pressure in one term
         for name in ("pressure", "continuity"):
-            t = terms.get(name)
+            t = terms.get(name, riemann)
             if t is None or not t.options.get("walls"):
                 raise InputError(
                     f"dummy_walls needs the {name!r} term with walls=True (e.g. PressureGradient(walls=True), "
