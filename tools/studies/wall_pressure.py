@@ -11,6 +11,12 @@ down (after Adami et al. 2012 and Greco), P1_point the pressure at the sensor's 
 
     python -m tools.studies.wall_pressure --dx 0.02
     python -m tools.studies.wall_pressure --dx 0.01 --only file c0x2
+    python -m tools.studies.wall_pressure --sensors --dx 0.005 --only file dfsph riemann
+
+``--sensors`` runs ``wall_pressure_sensors_2d.toml`` (beside this script: the geometry of
+Lobovsky et al. 2014, sensors at 1, 5, 10 and 27 % of H on the downstream wall) instead,
+and prints each sensor's first peak (0.02-T moving average; raw), its time and the noise,
+against the experiment's median peaks quoted in issue 26 (its series are not here).
 
 Prints a markdown table (figures in rho g H, time in t sqrt(g/H)).
 """
@@ -19,11 +25,19 @@ from __future__ import annotations
 
 import argparse
 import math
+import time
+from pathlib import Path
 
+import numpy as np
+
+from taisph.formats.scenefile import load
+from taisph.probes import Probes
+from taisph.run.simulation import Simulation
 from taisph.validation import buchner
 
 U = math.sqrt(2 * buchner.G * buchner.H)  # the cases' reference speed: c0 = 10 U
 
+DEFAULTS = {"kernel": "spline", "h_factor": 1.3, "physics.alpha": 0.1, "physics.delta": 0.1}
 # name -> (scene-file overrides, simulation controls, what changes)
 VARIANTS = {
     "file": ({}, {}, "the file: WCSPH, Wendland h = 2 dx, c0 = 10 U, alpha 0.02, delta 0.1, Courant 0.125"),
@@ -35,8 +49,48 @@ VARIANTS = {
     "dfsph": ({"solver": "dfsph"}, {"courant": 0.5}, "DFSPH (incompressible), CFL 0.5"),
     "riemann": ({"physics.formulation": "riemann", "physics.alpha": 0.0, "physics.delta": 0.0}, {},
                 "Riemann formulation (Zhang, Hu & Adams 2017), no alpha, no delta"),
+    # the scene files' and cases' defaults instead of the file's tuned settings
+    "defaults": (DEFAULTS, {"courant": 0.25}, "the defaults: spline, h = 1.3 dx, alpha 0.1, delta 0.1, Courant 0.25"),
+    "defaults+riemann": ({**DEFAULTS, "physics.formulation": "riemann", "physics.alpha": 0.0, "physics.delta": 0.0},
+                         {"courant": 0.25}, "the defaults with the Riemann formulation"),
+    "defaults+dfsph": ({**DEFAULTS, "solver": "dfsph"}, {"courant": 0.5}, "the defaults under DFSPH (CFL 0.5)"),
 }
 PROBES = ("P1", "P1_point", "P2")
+SENSORS_FILE = Path(__file__).with_name("wall_pressure_sensors_2d.toml")
+SENSORS_H = 0.3
+# the experiment's median first peaks (0.02-T moving average, rho g H) and their T, as issue 26 quotes them
+SENSORS = {"S1": (2.60, 2.464), "S2": (1.87, 2.595), "S3": (1.45, 2.762), "S4": (0.51, 3.20)}
+
+
+def sensors(dx: float, names) -> None:
+    """First peaks at the four sensors of the Lobovsky geometry, for each variant."""
+    scale = math.sqrt(buchner.G / SENSORS_H)
+    print("| variant | " + " | ".join(f"{s} peak (raw) @ T, noise" for s in SENSORS) + " | steps | wall s |")
+    print("|" + "---|" * (len(SENSORS) + 3))
+    for name in names:
+        overrides, controls, _ = VARIANTS[name]
+        scene, settings = load(SENSORS_FILE, {"dx": dx, **overrides})
+        if settings.courant is not None:
+            controls = {"courant": settings.courant, **controls}
+        sim = Simulation(scene, **controls)
+        probes = Probes(settings.probes, walls=settings.wall_groups, path=None)
+        start = time.perf_counter()
+        sim.run(7.1 / scale, frames=1, writers=[probes])
+        wall = time.perf_counter() - start
+        cells = [name]
+        for s, (peak_exp, t_exp) in SENSORS.items():
+            t, p = probes.series(s)
+            T, P = t * scale, np.nan_to_num(p / (buchner.RHO0 * buchner.G * SENSORS_H))
+            avg = buchner.moving_average(T, P)
+            wet = np.flatnonzero(avg > 0.2)
+            first = (T >= T[wet[0]]) & (T <= T[wet[0]] + 0.6) if len(wet) else np.zeros_like(T, bool)
+            k = int(np.argmax(np.where(first, avg, -1.0)))
+            after = (T >= 2.0) & (T <= T[-1] - buchner.NOISE_WIDTH / 2)
+            noise = float(np.sqrt(np.mean((P[after] - avg[after]) ** 2)))
+            cells.append(f"{avg[k]:.2f} ({P[first].max():.2f}) @ {T[k]:.3f} / {peak_exp:.2f} @ {t_exp:.3f}, {noise:.3f}")
+        probes.close()
+        sim.close()
+        print("| " + " | ".join(cells) + f" | {sim.steps} | {wall:.0f} |", flush=True)
 
 
 def measure(dx: float, names) -> list[dict]:
@@ -67,7 +121,11 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--dx", type=float, default=0.02)
     parser.add_argument("--only", nargs="+", choices=sorted(VARIANTS), default=list(VARIANTS))
+    parser.add_argument("--sensors", action="store_true", help="the Lobovsky geometry's four wall sensors instead")
     args = parser.parse_args(argv)
+    if args.sensors:
+        print(f"dx = {args.dx:g} m (H/dx = {SENSORS_H / args.dx:.0f}); peak / experiment's median peak, rho g H")
+        return sensors(args.dx, args.only)
     head = ["variant"] + [f"{p} {m}" for p in PROBES for m in ("MAE", "noise", "peak / exp.")] + ["steps", "wall s", "stopped"]
     print(f"dx = {args.dx:g} m (H/dx = {buchner.H / args.dx:.0f})")
     print("| " + " | ".join(head) + " |")
