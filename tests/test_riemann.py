@@ -138,3 +138,20 @@ def test_riemann_refuses_two_fluids_of_different_density(tmp_path):
     path.write_text(text)
     with pytest.raises(SceneFileError, match=r"two.toml: physics.formulation = 'riemann': fluids of different rho0"):
         load(path)
+
+
+def test_dfsph_replaces_the_riemann_formulation(tmp_path):
+    """DFSPH's pressure solve replaces continuity and pressure in either formulation: a
+    scene file with formulation = "riemann" and solver = "dfsph" runs the same step as the
+    symmetric one (positions equal to round-off after 20 steps of still water)."""
+    states = []
+    for formulation in ("riemann", "symmetric"):
+        path = tmp_path / f"{formulation}.toml"
+        path.write_text(STILL.replace('formulation = "riemann"', f'formulation = "{formulation}"\nalpha = 0.1')
+                        .replace('dim = 2', 'dim = 2\nsolver = "dfsph"'))
+        scene, _ = load(path)
+        sim = taisph.Simulation(scene)
+        assert "riemann" not in sim.effects()
+        sim.step(20)
+        states.append(sim.positions())
+    np.testing.assert_allclose(states[0], states[1], rtol=0, atol=1e-12)

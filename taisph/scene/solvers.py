@@ -6,7 +6,7 @@ from ..messages import InputError
 
 # the terms of a scene that DFSPH keeps (non-pressure forces), and those it replaces
 DFSPH_KEPT = ("gravity", "laminar_viscosity", "xsph", "artificial_viscosity")
-DFSPH_REPLACED = ("continuity", "summation_density", "pressure", "density_diffusion", "dummy_walls")
+DFSPH_REPLACED = ("continuity", "summation_density", "pressure", "density_diffusion", "dummy_walls", "riemann")
 
 
 def dfsph_kept_terms(scene) -> list:
