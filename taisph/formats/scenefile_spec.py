@@ -105,7 +105,6 @@ class SceneSpec:
     alpha: float
     delta: float
     xsph: float
-    formulation: str  # names.FORMULATIONS: "symmetric" or "riemann" (alpha and delta then default to 0)
     materials: list  # of dicts: name, rho0, c0 (None: default), gamma
     fluid: list
     walls: list
@@ -114,6 +113,7 @@ class SceneSpec:
     remove_escaped: bool = True  # particles leaving the domain (not by an open top) removed, else the run stops
     wall_model: str | None = None  # the one model of all wall groups (None: no walls)
     multiphase: bool = False  # fluids of different rho0: the sharp-interface terms
+    formulation: str = "symmetric"  # names.FORMULATIONS: "symmetric" or "riemann" (alpha and delta then default to 0)
 
 
 def read(path, overrides: dict | None = None) -> SceneSpec:
@@ -234,7 +234,6 @@ class _Checker:
                    for k in ("dim", "dx", "t_end", "frames", "h_factor")}
         dim = numbers["dim"]
         gravity = physics.get("gravity", [0.0, -9.81] + [0.0] * (dim - 2))
-        own = {"alpha": 0.0, "delta": 0.0} if physics.get("formulation") == "riemann" else {}  # its own dissipation
         spec = SceneSpec(
             path=self.path,
             name=self.text("name", data.get("name", _MISSING)),
@@ -245,9 +244,8 @@ class _Checker:
             controls={k: self.number(k, data[k], timestep.SETTABLE[k]) for k in timestep.SETTABLE if k in data},
             remove_escaped=self.flag("remove_escaped", data.get("remove_escaped", _MISSING), True),
             gravity=self.vector("physics.gravity", gravity, dim, RANGES["physics.gravity"]),
-            **{k: self.number(f"physics.{k}", physics.get(k, own.get(k, DEFAULTS[f"physics.{k}"])), RANGES[f"physics.{k}"])
+            **{k: self.number(f"physics.{k}", physics.get(k, DEFAULTS[f"physics.{k}"]), RANGES[f"physics.{k}"])
                for k in ("alpha", "delta", "xsph")},
-            formulation=self.choice("physics.formulation", physics.get("formulation", "symmetric"), known_formulation),
             materials=self.materials(data.get("materials", [{"name": "water"}])),
             fluid=[], walls=[], probes=[],
         )
@@ -267,11 +265,13 @@ class _Checker:
         spec.wall_model = spec.walls[0].model if spec.walls else None
         self.memory(spec)
         used = sorted({b.material for b in spec.fluid})
-        spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1
+        spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1  # the sharp-interface terms
         if spec.multiphase and spec.wall_model == "dummy":
-            self.fail("walls[0].model", "dummy", "fluids of different rho0 ("
-                      + ", ".join(spec.materials[k]["name"] for k in used) + ") use the sharp-interface terms "
-                      "(Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
+            self.fail("walls[0].model", "dummy", "fluids of different rho0 (" + ", ".join(spec.materials[k]["name"] for k in used)
+                      + ") use the sharp-interface terms (Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
+        one_fluid = spec.solver == "wcsph" and not spec.multiphase and spec.wall_model != "lj"  # names.FORMULATIONS: why
+        spec.formulation = self.choice("physics.formulation", physics.get("formulation", "riemann" if one_fluid else "symmetric"), known_formulation)
+        spec.alpha, spec.delta = (physics.get("alpha", 0.0), physics.get("delta", 0.0)) if spec.formulation == "riemann" else (spec.alpha, spec.delta)
         spec.domain = self.box("domain", data["domain"], dim) if "domain" in data else None
         lo, hi = spec.domain or default_domain(spec)
         spec.probes = self.probes(self.entries("probes", data), spec, lo, hi)

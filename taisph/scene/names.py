@@ -8,6 +8,9 @@ INTEGRATORS = ("euler", "eulermid", "eulermom", "pc")  # eulermom: the seed's na
 KERNELS = ("spline", "gaussian", "wendland")
 # the weakly compressible solver's continuity and pressure terms: Monaghan's symmetric form (with
 # artificial viscosity and density diffusion), or a Riemann solver between each pair
-# (taisph.terms.riemann), whose own dissipation replaces both (alpha and delta then default to 0)
+# (taisph.terms.riemann), whose own dissipation replaces both (alpha and delta then default to 0):
+# the scene files' default for one fluid under WCSPH without Lennard-Jones walls (its wall
+# treatment is that of dummy walls), for its smoother and more accurate wall pressure at the
+# same front (docs/validation.md, "What sets the wall pressure")
 FORMULATIONS = ("symmetric", "riemann")
 UP = 1  # the vertical axis, y, in 2D and 3D: gravity points along -UP, tanks open at +UP

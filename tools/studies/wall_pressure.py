@@ -49,6 +49,8 @@ VARIANTS = {
     "dfsph": ({"solver": "dfsph"}, {"courant": 0.5}, "DFSPH (incompressible), CFL 0.5"),
     "riemann": ({"physics.formulation": "riemann", "physics.alpha": 0.0, "physics.delta": 0.0}, {},
                 "Riemann formulation (Zhang, Hu & Adams 2017), no alpha, no delta"),
+    "riemann+file": ({"physics.formulation": "riemann"}, {},
+                     "Riemann formulation with the file's alpha 0.02 and delta 0.1 kept"),
     # the scene files' and cases' defaults instead of the file's tuned settings
     "defaults": (DEFAULTS, {"courant": 0.25}, "the defaults: spline, h = 1.3 dx, alpha 0.1, delta 0.1, Courant 0.25"),
     "defaults+riemann": ({**DEFAULTS, "physics.formulation": "riemann", "physics.alpha": 0.0, "physics.delta": 0.0},
