@@ -56,11 +56,12 @@ def test_p1_impact_time_at_coarse_resolution():
 @pytest.mark.slow
 @pytest.mark.parametrize("dx, mae, impact", [(0.02, 0.115, 0.013), (0.01, 0.08, -0.006)])
 def test_p1_and_p2_against_buchner(dx, mae, impact):
-    """The example's settings to T = 6.1 (dx = 0.02 m: 35 s, 0.01 m: 3 min on 2 cores):
-    no guard stops the run; P1's impact within 5 % of the experiment's and its mean
-    absolute error over T in [2, 6] at most 0.15 rho g H (published delta-SPH:
-    0.10-0.12); P2's at most 0.05. Measured: see the parameters (docs/validation.md)."""
-    result = buchner.run(dx=dx)
+    """The example's settings with the symmetric form (seed eqs. 7-8, the example's until
+    issue 26) to T = 6.1 (dx = 0.02 m: 35 s, 0.01 m: 3 min on 2 cores): no guard stops
+    the run; P1's impact within 5 % of the experiment's and its mean absolute error over
+    T in [2, 6] at most 0.15 rho g H (published delta-SPH: 0.10-0.12); P2's at most 0.05.
+    Measured: see the parameters (docs/validation.md)."""
+    result = buchner.run(dx=dx, overrides={"physics.formulation": "symmetric"})
     assert result["stopped"] == ""
     assert abs(result["P1"]["impact_error"]) < 0.05, result["P1"]
     assert result["P1"]["mae"] <= 0.15, result["P1"]
@@ -98,3 +99,18 @@ def test_p1_and_p2_with_the_riemann_formulation():
     assert result["P1"]["mae"] <= 0.15, result["P1"]
     assert result["P2"]["mae"] <= 0.05, result["P2"]
     assert result["P1"]["noise"] <= 0.05, result["P1"]
+
+
+@pytest.mark.slow
+def test_the_example_as_shipped_against_buchner():
+    """The example as shipped (the Riemann formulation with alpha 0.02 and delta 0.1) at
+    dx = 0.02 m to T = 6.1: P1's impact within 5 % (measured +2.5 %), its mean absolute
+    error at most 0.15 (0.123) and its probe noise at most 0.05 (0.011); P2 at most 0.05
+    (0.024). At dx = 0.01 the impact is +5.4 % late (MAE 0.086, noise 0.004): outside the
+    5 % bar, so not asserted there (docs/validation.md, "What sets the wall pressure")."""
+    result = buchner.run(dx=0.02)
+    assert result["stopped"] == ""
+    assert abs(result["P1"]["impact_error"]) < 0.05, result["P1"]
+    assert result["P1"]["mae"] == pytest.approx(0.123, abs=0.03)
+    assert result["P1"]["noise"] <= 0.05, result["P1"]
+    assert result["P2"]["mae"] <= 0.05, result["P2"]
