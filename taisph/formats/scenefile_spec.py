@@ -23,7 +23,7 @@ from ..engine.dfsph import pairs
 from ..geometry.mesh import MeshError, load_surface
 from ..messages import InputError
 from ..probes.spec import KINDS, Probe, outside  # noqa: F401  (Probe: what [[probes]] become)
-from ..scene.names import UP
+from ..scene.names import UP, default_formulation
 from ..scene.parameters import (BYTES_PER_PARTICLE, Range, courant_number, diffusion_delta, end_time, finite,
                                 gravity_component, integer, known_formulation, known_integrator, known_kernel, known_solver,
                                 memory_shortage, one_of, output_frames, positive, reference_density, smoothing_factor,
@@ -265,13 +265,13 @@ class _Checker:
         spec.wall_model = spec.walls[0].model if spec.walls else None
         self.memory(spec)
         used = sorted({b.material for b in spec.fluid})
-        spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1  # the sharp-interface terms
+        spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1
         if spec.multiphase and spec.wall_model == "dummy":
             self.fail("walls[0].model", "dummy", "fluids of different rho0 (" + ", ".join(spec.materials[k]["name"] for k in used)
                       + ") use the sharp-interface terms (Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
-        one_fluid = spec.solver == "wcsph" and not spec.multiphase and spec.wall_model != "lj"  # names.FORMULATIONS: why
-        spec.formulation = self.choice("physics.formulation", physics.get("formulation", "riemann" if one_fluid else "symmetric"), known_formulation)
-        spec.alpha, spec.delta = (physics.get("alpha", 0.0), physics.get("delta", 0.0)) if spec.formulation == "riemann" else (spec.alpha, spec.delta)
+        spec.formulation = self.choice("physics.formulation", physics.get("formulation", default_formulation(spec)), known_formulation)
+        if spec.formulation == "riemann":  # its own dissipation: alpha and delta only where the file sets them
+            spec.alpha, spec.delta = (spec.alpha if "alpha" in physics else 0.0), (spec.delta if "delta" in physics else 0.0)
         spec.domain = self.box("domain", data["domain"], dim) if "domain" in data else None
         lo, hi = spec.domain or default_domain(spec)
         spec.probes = self.probes(self.entries("probes", data), spec, lo, hi)

@@ -13,4 +13,11 @@ KERNELS = ("spline", "gaussian", "wendland")
 # treatment is that of dummy walls), for its smoother and more accurate wall pressure at the
 # same front (docs/validation.md, "What sets the wall pressure")
 FORMULATIONS = ("symmetric", "riemann")
+
 UP = 1  # the vertical axis, y, in 2D and 3D: gravity points along -UP, tanks open at +UP
+
+
+def default_formulation(spec) -> str:
+    """The formulation a scene file gets when it names none (see FORMULATIONS); `spec` has
+    the file's ``solver``, ``multiphase`` and ``wall_model`` (a scene file's SceneSpec)."""
+    return "riemann" if spec.solver == "wcsph" and not spec.multiphase and spec.wall_model != "lj" else "symmetric"
