@@ -68,6 +68,12 @@ def fail(result: dict, err: BaseException) -> None:
 
 def _scene(task: Task):
     """The run's scene, built as the plain command and the validation runs build it."""
+    if task.validate:  # a validation run built from a scene file (taisph.validation.runs.scene_of)
+        from ..validation.runs import scene_of
+
+        scene = scene_of(task.case, task.params)
+        if scene is not None:
+            return scene
     factory = resolve_case(task.case)
     accepted = inspect.signature(factory).parameters
     scene = factory(**{k: v for k, v in task.params.items() if k in accepted})

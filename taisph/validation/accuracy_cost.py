@@ -42,8 +42,16 @@ from pathlib import Path
 
 import numpy as np
 
+from ..formats.scenefile_spec import DEFAULTS as SCENE_FILE_DEFAULTS
+
 ROOT = Path(__file__).resolve().parents[2]  # the source checkout, if taisph runs from one (git_commit)
 F64, F32 = "f64", "f32"
+
+# The scene-file defaults of the keys dam_break_probes_2d.toml sets (taisph/formats/scenefile_spec.py:
+# a spline with h = 1.3 dx, the engine's Courant number 0.25; alpha and delta 0 with the Riemann
+# formulation, the file's default, and 0.1 each with the symmetric form)
+DEFAULT_KERNEL = {key: SCENE_FILE_DEFAULTS[key] for key in ("kernel", "h_factor")}
+DEFAULT_COURANT = {"courant": 0.25}
 
 # Per case: the resolutions (dx), fixed run settings, the baseline and the variations.
 # A variation is (label, parameters changed from the baseline, precision).
@@ -64,6 +72,26 @@ STUDY = {
             ("DFSPH, dummy walls + wall friction", dict(walls="dummy", wall_friction=True, solver="dfsph"), F64),
             ("WCSPH default: dummy walls, friction, delta 0.1", dict(walls="dummy", wall_friction=True, delta=0.1,
                                                                      controls=dict(courant=0.4)), F64),
+        ],
+    ),
+    # the flagship's measure that converges (issue 26): Buchner's P1 in the 2D dam break of
+    # cases/dam_break_probes_2d.toml, as shipped and with one choice changed
+    "dam_break_pressure": dict(
+        levels=[0.03, 0.02, 0.01], quick=[0.03], fixed={},
+        base={},
+        variants=[
+            ("the example: Riemann, Wendland h 2 dx, alpha 0.02, delta 0.1", {}, F64),
+            ("symmetric form (seed eqs. 7-8)", dict(overrides={"physics.formulation": "symmetric"}), F64),
+            ("DFSPH, CFL 0.5", dict(overrides={"solver": "dfsph"}, controls={"courant": 0.5}), F64),
+            ("scene-file defaults: spline h 1.3 dx, Riemann (alpha 0, delta 0), Courant 0.25",
+             dict(overrides={**DEFAULT_KERNEL, "physics.alpha": 0.0, "physics.delta": 0.0}, controls=DEFAULT_COURANT),
+             F64),
+            ("defaults, symmetric form (alpha 0.1, delta 0.1)",
+             dict(overrides={**DEFAULT_KERNEL, "physics.formulation": "symmetric", "physics.alpha": 0.1,
+                             "physics.delta": 0.1}, controls=DEFAULT_COURANT), F64),
+            ("defaults, DFSPH (alpha 0.1)", dict(overrides={**DEFAULT_KERNEL, "solver": "dfsph", "physics.alpha": 0.1},
+                                                 controls={"courant": 0.5}), F64),
+            ("the example in f32", {}, F32),
         ],
     ),
     "hydrostatic_tank": dict(

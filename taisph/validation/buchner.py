@@ -122,14 +122,16 @@ def run(dx: float = 0.01, t_end: float | None = None, out=None, overrides: dict 
     further scene-file keys (``{"physics.alpha": 0.05}``); `controls`: simulation
     controls (``max_density_error``, ``courant``...); `out`: a folder for probes.csv.
     Returns {"P1": metrics, ..., "P1_series": (T, P), ..., "dx", "steps", "wall_s",
-    "fluid", "t_end", "stopped"} ("stopped": the first line of a guard's diagnosis,
+    "setup_s", "fluid", "particles", "precision", "t_end", "stopped"} ("stopped": the first line of a guard's diagnosis,
     or "")."""
     scale = math.sqrt(G / H)
     t_end = 6.1 / scale if t_end is None else t_end
     scene, settings = load(scene_file(), {"dx": dx, "t_end": t_end, **(overrides or {})})
     if settings.courant is not None:
         controls.setdefault("courant", settings.courant)
+    start = time.perf_counter()
     sim = Simulation(scene, **controls)
+    setup = time.perf_counter() - start
     path = Path(out) / "probes.csv" if out is not None else None
     probes = Probes(settings.probes, walls=settings.wall_groups, path=path)
     stopped = ""
@@ -139,7 +141,8 @@ def run(dx: float = 0.01, t_end: float | None = None, out=None, overrides: dict 
     except SimulationError as err:
         stopped = str(err).splitlines()[0]
     wall = time.perf_counter() - start
-    result = dict(dx=dx, steps=sim.steps, wall_s=wall, fluid=scene.n_fluid, t_end=sim.time, stopped=stopped)
+    result = dict(dx=dx, steps=sim.steps, wall_s=wall, setup_s=setup, fluid=scene.n_fluid, particles=sim.n,
+                  precision=sim.runtime.precision, t_end=sim.time, stopped=stopped)
     for name, sensor in PROBES.items():
         if name in {p.name for p in settings.probes}:
             T, p = probes.series(name)
