@@ -2,6 +2,7 @@
 
     python -m tools.plots.plot_probes OUT                     # OUT/probes.png
     python -m tools.plots.plot_probes OUT --buchner           # P1/P2 over Buchner's (2002) measurements
+    python -m tools.plots.plot_probes OUT --kleefsman         # SPHERIC test 2: P1-P4, H2, H4 over the experiment
     python -m tools.plots.plot_probes OUT -o fig.png --only P1,P2
 
 Pressures are in Pa, elevations in m, forces in N (one line per component), against
@@ -9,7 +10,10 @@ t in s. With --buchner (the 2D dam break of cases/dam_break_probes_2d.toml) pres
 probes named P1 and P2 are drawn as p / (rho0 g H) against t sqrt(g/H), H = 0.6 m,
 over the experiment (taisph/validation/references/data/buchner2002_*), with the impact
 time and mean absolute error of taisph.validation.buchner in the legend. A probe that
-read no value (dry) is a gap in its line. Needs matplotlib (pip install ".[plot]").
+read no value (dry) is a gap in its line. With --kleefsman (the 3D dam break of
+cases/dam_break_obstacle_3d.toml) the pressures P1-P4 and heights H2, H4 are drawn in
+rho g H and H (H = 0.55 m) against t over the SPHERIC test 2 experiment, with the metrics of
+taisph.validation.kleefsman in the legend. Needs matplotlib (pip install ".[plot]").
 """
 
 import argparse
@@ -42,6 +46,7 @@ def main(argv=None) -> int:
     parser.add_argument("out", type=Path, help="a run's output folder (with probes.csv), or the CSV itself")
     parser.add_argument("-o", "--output", type=Path, help="image to write (default: OUT/probes.png)")
     parser.add_argument("--buchner", action="store_true", help="P1, P2 over Buchner's 2002 dam-break pressures")
+    parser.add_argument("--kleefsman", action="store_true", help="P1-P4, H2, H4 over the SPHERIC test 2 experiment")
     parser.add_argument("--only", help="comma-separated probe names to plot")
     args = parser.parse_args(argv)
     try:
@@ -71,18 +76,27 @@ def main(argv=None) -> int:
 
         panels = [("buchner", [c for c in scalars if c in PROBES])]
         scalars = [c for c in scalars if c not in PROBES]
+    elif args.kleefsman:
+        from taisph.validation.kleefsman import HEIGHT_GAUGES, PRESSURE_SENSORS
+
+        panels = [("kleefsman", [c for c in scalars if c in PRESSURE_SENSORS]),
+                  ("kleefsman", [c for c in scalars if c in HEIGHT_GAUGES])]
+        scalars = [c for c in scalars if c not in PRESSURE_SENSORS + HEIGHT_GAUGES]
     else:
         panels = []
     metres = [c for c in scalars if np.nanmax(np.abs(data[c]), initial=0.0) < 100.0]
     pascals = [c for c in scalars if c not in metres]
     panels += [("pressure", pascals), ("elevation", metres)] + [("force", [name]) for name in forces]
     panels = [(kind, cols) for kind, cols in panels if cols]
-    heights = [4.0 if kind == "buchner" else 2.8 for kind, _ in panels]
+    heights = [4.0 if kind in ("buchner", "kleefsman") else 2.8 for kind, _ in panels]
     fig, axes = plt.subplots(len(panels), 1, figsize=(9, sum(heights)), squeeze=False,
                              gridspec_kw={"height_ratios": heights})
     for ax, (kind, cols) in zip(axes[:, 0], panels):
         if kind == "buchner":
             _buchner(ax, t, data, cols)
+            continue
+        if kind == "kleefsman":
+            _kleefsman(ax, t, data, cols, csv_path)
             continue
         for c in cols:
             for column in forces.get(c, [c]):
@@ -125,6 +139,45 @@ def _buchner(ax, t, data, cols):
     ax.set_xlim(1.5, 7.5)
     ax.legend(fontsize=6.5, loc="lower right", framealpha=0.8)
     ax.grid(alpha=0.3)
+
+
+def _kleefsman(ax, t, data, cols, csv_path):
+    """Pressures (or heights) over the SPHERIC test 2 experiment, with their metrics
+    (over each probe's own samples, a dry one counting as 0, as kleefsman.run has them)."""
+    import csv
+
+    from taisph.validation import kleefsman
+
+    with open(csv_path, newline="") as f:
+        rows = list(csv.reader(f))
+    sampled = {c: np.array([r[rows[0].index(c)] != "" for r in rows[1:]]) for c in cols}
+
+    ref = kleefsman.reference()
+    pressure = cols[0].startswith("P")
+    scale = kleefsman.RHO0 * kleefsman.G * kleefsman.H if pressure else kleefsman.H
+    colours = plt_colours()
+    for k, c in enumerate(cols):
+        taken = sampled[c]
+        if pressure:
+            m = kleefsman.compare_pressure(t[taken], data[c][taken], c)
+            label = f"{c} taisph: peak {m['peak']:.2f} ({m['peak_ref']:.2f}), impact {m['impact_error'] * 1e3:+.0f} ms, MAE {m['mae']:.3f}"
+        else:
+            m = kleefsman.compare_height(t[taken], data[c][taken], c)
+            label = f"{c} taisph: MAE {m['mae']:.3f}"
+        print(f"{c}: {label.split(': ', 1)[1]}")
+        ax.plot(t[taken], np.nan_to_num(data[c][taken]) / scale, lw=0.8, color=colours[k], label=label)
+        ax.plot(ref["t"], ref[c] / scale, lw=0.6, ls="--", color=colours[k], alpha=0.8, label=f"{c} experiment")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("p / (rho g H)" if pressure else "h / H")
+    ax.set_xlim(0, float(ref["t"][-1]))
+    ax.legend(fontsize=6.5, loc="upper right", framealpha=0.8, ncol=2)
+    ax.grid(alpha=0.3)
+
+
+def plt_colours():
+    import matplotlib.pyplot as plt
+
+    return plt.rcParams["axes.prop_cycle"].by_key()["color"]
 
 
 if __name__ == "__main__":
