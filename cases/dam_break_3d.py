@@ -4,6 +4,8 @@ from taisph.scene.parameters import (checked, courant_number, diffusion_delta, e
                                      gravity_magnitude, known_integrator, known_kernel, one_of, optional, positive,
                                      smoothing_factor, speed_of_sound, viscosity_alpha, xsph_epsilon)
 
+from taisph.scene.names import FORMULATIONS
+
 from .dam_break import WALL_MODELS, _dam_break
 
 
@@ -11,7 +13,8 @@ from .dam_break import WALL_MODELS, _dam_break
          alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude,
          kernel=known_kernel, integrator=known_integrator, seed_physics=flag, walls=optional(one_of(*WALL_MODELS)),
          wall_friction=optional(flag), delta=optional(diffusion_delta), xsph=optional(xsph_epsilon),
-         courant=optional(courant_number), tension=flag, t_end=end_time, frames=frame_count, closed_top=flag)
+         courant=optional(courant_number), tension=flag, t_end=end_time, frames=frame_count, closed_top=flag,
+         formulation=one_of(*FORMULATIONS))
 def dam_break_3d(
     dx: float = 0.05,
     width: float = 1.0,
@@ -35,6 +38,7 @@ def dam_break_3d(
     t_end: float = 1.0,
     frames: int = 25,
     closed_top: bool = False,
+    formulation: str = "symmetric",
 ):
     """The 2D dam break extruded to `depth` (m) between two side walls.
 
@@ -43,4 +47,5 @@ def dam_break_3d(
     """
     return _dam_break(3, dx, width, height, depth, tank_width, tank_height, alpha, c0, h_factor, g,
                       kernel, integrator, t_end, frames, "dam_break_3d", seed_physics=seed_physics, walls=walls,
-                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, tension=tension, closed_top=closed_top)
+                      wall_friction=wall_friction, delta=delta, xsph=xsph, courant=courant, tension=tension,
+                      closed_top=closed_top, formulation=formulation)
