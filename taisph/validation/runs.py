@@ -22,42 +22,18 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .buchner import dam_break_pressure, scene_file
+from .outcome import Outcome
 from .references import analytic
 from ..engine.timestep import fixed_dt
 from ..run.simulation import Simulation
 from ..scene import catalogue
 
 DATA = Path(__file__).resolve().parent / "references" / "data"
-
-
-@dataclass
-class Outcome:
-    case: str
-    params: dict
-    precision: str
-    error: float
-    error_name: str
-    metrics: dict = field(default_factory=dict)
-    fluid: int = 0
-    particles: int = 0
-    steps: int = 0
-    dt: float = float("nan")
-    dx: float = float("nan")
-    wall: float = 0.0  # seconds spent stepping
-    setup: float = 0.0  # seconds to build the simulation (kernel compilation included)
-    sim_time: float = 0.0  # simulated time reached (s)
-    series: dict = field(default_factory=dict)
-    diverged: bool = False
-
-    @property
-    def rate(self) -> float:
-        """Fluid particle-steps per wall second."""
-        return self.fluid * self.steps / self.wall if self.wall > 0 else float("nan")
 
 
 def reference(name: str) -> tuple[np.ndarray, str]:
@@ -345,46 +321,15 @@ def elliptical_drop(precision=None, samples: int = 4, **params) -> Outcome:
                        dict(t=ts, b_error=eb, b_moment_error=ebm, a_moment_error=eam))
 
 
-# --- the dam break's wall pressure -------------------------------------------------------------------------
-def dam_break_pressure(precision=None, dx: float = 0.02, overrides: dict | None = None,
-                       controls: dict | None = None) -> Outcome:
-    """Buchner's (2002) wall pressure P1 in the 2D dam break of ``cases/dam_break_probes_2d.toml``
-    (:mod:`taisph.validation.buchner`): headline the mean |P - P_exp| over T in [2, 6]
-    (P = p / rho g H, T = t sqrt(g/H)), the measure of the dam break that converges with
-    resolution (issue 26: the surge front against Koshizuka & Oka does not, the experiment's
-    front being slower than the inviscid model's). `overrides`: scene-file keys changed
-    (``{"physics.formulation": "symmetric"}``, ``{"solver": "dfsph"}``); `controls`:
-    simulation controls (``{"courant": 0.5}``). Metrics: P1's noise, first peak and impact
-    time error, P2's mean error."""
-    from . import buchner
-
-    controls = dict(controls or {})
-    if precision is not None:
-        controls["precision"] = precision
-    out = buchner.run(dx=dx, overrides=overrides, **controls)
-    p1, p2 = out["P1"], out.get("P2")
-    stopped = bool(out["stopped"])
-    metrics = dict(p1_noise=p1["noise"], p1_peak=p1["peak"], p1_peak_ref=p1["peak_ref"],
-                   p1_impact_error=p1["impact_error"], p2_mae=p2["mae"] if p2 else math.nan, stopped=out["stopped"])
-    params = dict(dx=dx, overrides=overrides or {}, controls=controls)
-    return Outcome(case="dam_break_pressure", params=params, precision=out["precision"],
-                   error=float("inf") if stopped else p1["mae"], error_name="P1: mean |P - P_Buchner|, T 2-6",
-                   metrics=metrics, fluid=out["fluid"], particles=out["particles"], steps=out["steps"],
-                   dt=out["t_end"] / max(out["steps"], 1), dx=dx, wall=out["wall_s"], setup=out["setup_s"],
-                   sim_time=out["t_end"], series=dict(T=out["P1_series"][0].tolist(), P=out["P1_series"][1].tolist()),
-                   diverged=stopped)
-
-
 def scene_of(case: str, params: dict):
     """The scene a validation run of `case` with `params` steps, for a sweep worker to
     compile before it is timed; None for the cases built by their factory (``catalogue``)."""
     if case != "dam_break_pressure":
         return None
     from ..formats.scenefile import load
-    from . import buchner
 
     overrides = params.get("overrides") or {}
-    return load(buchner.scene_file(), {"dx": params.get("dx", 0.02), **overrides})[0]
+    return load(scene_file(), {"dx": params.get("dx", 0.02), **overrides})[0]
 
 
 VALIDATIONS = {
