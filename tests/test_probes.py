@@ -51,17 +51,24 @@ def test_still_tank_pressure_elevation_and_floor_force():
     assert np.all(np.abs(values["tank"][:, 1] / values["floor"][:, 1] - 1) < 0.001)
 
 
-@pytest.mark.parametrize("case", ["lj_tank", "dam_break"])
+@pytest.mark.parametrize("case", ["lj_tank", "dam_break", "dam_break_friction"])
 def test_force_probe_is_the_force_the_fluid_feels(case):
     """Newton: over a run sampled every step, the fluid's change of momentum equals
     the time integral of gravity minus the force probes on all its walls (trapezoid
     over the samples, which is how the predictor-corrector integrates the rates): to
     1e-9 of M g T, in a Lennard-Jones tank whose water bounces on the walls' springs
-    (the force swings by +-12 % of the weight) and in a dummy-wall dam break (the
-    scene file's example at dx = 0.04 m: surge, impact on the right wall)."""
+    (the force swings by +-12 % of the weight), in a dummy-wall dam break (the
+    scene file's example at dx = 0.04 m: surge, impact on the right wall) and in the
+    dam_break case with its wall friction (artificial viscosity between fluid and
+    walls: the probe carries that shear force too; dx = 0.05 m)."""
     if case == "lj_tank":
         scene, wall, _ = still_tank(dx=0.025, walls="lj")
         t_end, walls = 0.2, {"walls": wall}
+    elif case == "dam_break_friction":
+        scene = taisph.cases.dam_break(dx=0.05)
+        assert scene.terms_by_name["artificial_viscosity"].with_walls
+        wall = np.flatnonzero(scene.kind == taisph.WALL)
+        t_end, walls = 0.8, {"walls": slice(wall[0], wall[-1] + 1)}
     else:
         from taisph.formats.scenefile import load
         from taisph.scene.catalogue import find_scene_file
@@ -84,6 +91,34 @@ def test_force_probe_is_the_force_the_fluid_feels(case):
     expected = impulse + mass * np.array([0.0, -G]) * t_end
     assert np.all(np.abs(change - expected) < 1e-9 * mass * G * t_end), (change, expected)
     assert np.ptp(F[len(F) // 4 :, 1]) > 0.1 * mass * G  # a real test: the force varies
+
+
+def test_force_probe_carries_the_shear_force_of_a_channel():
+    """Poiseuille flow (Morris et al. 1997; L = 1 mm, nu = 1e-6 m^2/s, body force F =
+    2e-4 m/s^2 along x, dummy walls with no-slip Morris viscosity, dx = L/10) to t = 1 s,
+    ten times the start-up time L^2/(pi^2 nu) = 0.1 s: the force probe on the walls is the
+    viscous shear of the water on them (no pressure force along x), and
+    - at steady state it balances the driving force, F_x = M F, within 1 % (the shear of
+      the exact parabola, 2 x mu (4 u_max / L) x length, is the same M F);
+    - at every step the water's change of momentum is the time integral of the body
+      force minus the probe (trapezoid over the samples, as in the test above), to 1e-9
+      of M F T: the probe holds every force the walls exert, the viscous one included."""
+    scene = taisph.cases.poiseuille(dx=1e-4, t_end=1.0)
+    wall = np.flatnonzero(scene.kind == taisph.WALL)
+    walls = {"walls": slice(wall[0], wall[-1] + 1)}
+    F = scene.terms_by_name["gravity"].values["gravity"][0]
+    sim = taisph.Simulation(scene)
+    momentum0 = sim.momentum()
+    probes = Probes([force("shear", walls="walls")], walls=walls)
+    sim.run(1.0, frames=1, writers=[probes])
+    change = sim.momentum() - momentum0
+    mass = sim.total_mass()
+    sim.close()
+    times, force_x = probes.series("shear")
+    assert force_x[-1, 0] == pytest.approx(mass * F, rel=0.01), (force_x[-1], mass * F)
+    impulse = -0.5 * ((force_x[1:] + force_x[:-1]) * np.diff(times)[:, None]).sum(axis=0)
+    expected = impulse + mass * np.array([F, 0.0]) * 1.0
+    assert np.all(np.abs(change - expected) < 1e-9 * mass * F * 1.0), (change, expected)
 
 
 TANK_3D = """\
@@ -320,8 +355,10 @@ def test_probes_read_the_sorted_state_after_a_step(skin):
     """After 12 steps of a dam break (dummy walls), with or without neighbour lists
     (skin 0.5: the lists are reused between rebuilds, the cells are those of the last
     rebuild), the pressure probe and the force probe equal their definitions evaluated
-    with numpy on the cell-sorted state S the step computed its rates from, to 1e-9."""
-    scene = taisph.cases.dam_break(dx=0.05, walls="dummy")
+    with numpy on the cell-sorted state S the step computed its rates from, to 1e-9
+    (free-slip walls: the force is then the pressure's alone; the wall friction's share is
+    in test_force_probe_is_the_force_the_fluid_feels)."""
+    scene = taisph.cases.dam_break(dx=0.05, walls="dummy", wall_friction=False)
     scene.neighbour_skin = skin
     sim = taisph.Simulation(scene)
     sim.step(12)

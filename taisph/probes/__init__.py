@@ -37,14 +37,18 @@ on the line reads NaN.
 ``force`` on a wall group: the force of the fluid on those wall particles as the
 momentum equation has it, minus the sum over fluid particles f of m_f times the
 acceleration each wall particle w of the group gives f through the pressure terms
-(:data:`taisph.probes.device.FORCE_TERMS`: the pressure gradient with dummy walls,
-the Lennard-Jones force with those walls). By Newton's third law these are the
+and the viscous terms (:data:`taisph.probes.device.FORCE_TERMS`: the pressure gradient
+with dummy walls, the Lennard-Jones force with those walls, and the laminar or
+artificial viscosity where it acts between fluid and walls, ``walls=True``: the
+shear force). By Newton's third law these are the
 forces the fluid feels from the wall, so in still water the forces on all walls add
 up to the water's weight, whatever the walls' discretisation; the alternative, each
 wall particle's extrapolated pressure times an area, needs wall normals and areas
 and is only right for the first layer of particles of a flat wall (DualSPHysics's
-force gauge also sums the SPH accelerations of the boundary particles). Viscous wall
-forces are not included (a pressure force).
+force gauge also sums the SPH accelerations of the boundary particles). In a channel
+driven by a body force the probe's shear force on the walls balances the driving
+force at steady state (tests/test_probes.py); a drag coefficient is the probe on a
+body's wall group divided by 1/2 rho U^2 D.
 
 Which state: a sample reads the cell-sorted state ``S`` the last step's rates were
 computed from, after the step: the one the forces were computed from, with the dummy

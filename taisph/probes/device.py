@@ -12,8 +12,9 @@ of the thread pool), computes
 
 - for every wall particle w of a force probe's wall group, minus the force its
   neighbours' momentum equations get from it through the pressure terms (pressure
-  gradient, Hu-Adams pressure, the Riemann formulation's, Lennard-Jones wall force:
-  :data:`FORCE_TERMS`),
+  gradient, Hu-Adams pressure, the Riemann formulation's, Lennard-Jones wall force) and
+  the viscosity terms that act at walls (laminar and artificial viscosity with
+  ``walls=True``: the shear force; :data:`FORCE_TERMS`),
 
       F_w = - sum_{fluid f} m_f a_f<-w,
 
@@ -54,7 +55,10 @@ from ..messages import InputError
 
 # terms whose wall contributions make up a force probe: the pressure force of the
 # fluid on the wall (and, for Lennard-Jones walls, their repulsion, which stands in for it)
-FORCE_TERMS = ("pressure", "pressure_hu_adams", "riemann", "lennard_jones_wall")
+# and the viscous (shear) force of the viscosity terms that act between fluid and walls
+# (walls=True; without it their pair skips wall particles and adds nothing)
+FORCE_TERMS = ("pressure", "pressure_hu_adams", "riemann", "lennard_jones_wall", "laminar_viscosity",
+               "artificial_viscosity")
 
 _builders = weakref.WeakKeyDictionary()  # solver -> the kernel builder of its probes
 
