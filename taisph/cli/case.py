@@ -143,7 +143,8 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g.add_argument("--probe", action="append", default=[], metavar="KIND:NAME:WHERE[:EVERY]",
                    help="sample a probe into OUT/probes.csv (repeatable): pressure:P1:3.22,0.16 (a point), "
                         "elevation:gauge:0.6:10 (a vertical line at x = 0.6, every 10 steps), force:F:walls "
-                        "(all wall particles; a scene file's wall group names); docs/scenes.md")
+                        "(all wall particles; a scene file's wall group names), flow:Q:2,0,2,1 (flow rate through the "
+                        "face from (2, 0) to (2, 1)); docs/scenes.md")
     g.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"], help="Taichi backend (default cpu)")
     g.add_argument("--threads", type=THREADS, help="CPU threads (>= 1; default: all cores)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")

@@ -22,7 +22,7 @@ from ..engine import smoothing, timestep
 from ..engine.dfsph import pairs
 from ..geometry.mesh import MeshError, load_surface
 from ..messages import InputError
-from ..probes.spec import KINDS, Probe, outside  # noqa: F401  (Probe: what [[probes]] become)
+from ..probes.spec import FACES, KINDS, Probe, face_problem, outside  # noqa: F401  (Probe: what [[probes]] become)
 from ..scene.names import UP, default_formulation
 from ..scene.parameters import (BYTES_PER_PARTICLE, Range, courant_number, diffusion_delta, end_time, finite,
                                 gravity_component, integer, known_formulation, known_integrator, known_kernel, known_solver,
@@ -379,20 +379,20 @@ class _Checker:
             names[name] = k
             kind = self.choice(f"{key}.kind", p.get("kind", _MISSING), RANGES["kind"])
             probe = Probe(name, kind, every=self.number(f"{key}.every", p.get("every", DEFAULTS["every"]), RANGES["every"]))
-            needs = {"pressure": "at", "elevation": "at", "force": "walls"}[kind]
-            for extra in sorted({"at", "to", "walls"} - {needs} - ({"to"} if kind == "pressure" else set())):
+            needs, face = ("walls" if kind == "force" else "at"), kind in FACES  # faces: at and to (flow: both)
+            for extra in sorted({"at", "to", "walls"} - {needs} - ({"to"} if face else set())):
                 if extra in p:
-                    self.fail(f"{key}.{extra}", p[extra], f"a {kind} probe takes {needs}"
-                              + (" (and to)" if kind == "pressure" else "") + f", not {extra}")
+                    self.fail(f"{key}.{extra}", p[extra], f"a {kind} probe takes {needs}{' (and to)' * face}, not {extra}")
             if kind == "force":
                 probe.walls = self.text(f"{key}.walls", p.get("walls", _MISSING))
                 if probe.walls not in groups:
-                    self.fail(f"{key}.walls", probe.walls, "no wall group of that name; wall groups: "
-                              + (", ".join(groups) or "none"))
+                    self.fail(f"{key}.walls", probe.walls, f"no wall group of that name; wall groups: {', '.join(groups) or 'none'}")
             else:
-                axes = list(range(spec.dim)) if kind == "pressure" else [a for a in range(spec.dim) if a != UP]
-                for point in ("at", "to") if "to" in p else ("at",):
+                axes = list(range(spec.dim)) if face else [a for a in range(spec.dim) if a != UP]
+                for point in ("at", "to") if "to" in p or kind == "flow" else ("at",):
                     setattr(probe, point, self.vector(f"{key}.{point}", p.get(point, _MISSING), len(axes)))
+                if kind == "flow" and (bad := face_problem(probe.at, probe.to, spec.dim)):
+                    self.fail(f"{key}.to", p["to"], bad)
                 if (bad := outside(probe, (lo, hi))) is not None:  # the one rule of every probe
                     self.fail(f"{key}.{bad[0]}", p[bad[0]], bad[1])
             out.append(probe)

@@ -1,5 +1,6 @@
 """Probes: pressure at a point, free-surface elevation along a vertical line (a wave
-gauge) and the pressure force on a group of wall particles, sampled during a run.
+gauge), the force on a group of wall particles and the volume flow rate through a
+face, sampled during a run.
 
     >>> from taisph.probes import Probes, pressure, elevation, force
     >>> probes = Probes([pressure("P1", at=(3.22, 0.16)), elevation("gauge", at=0.6, every=10),
@@ -50,6 +51,17 @@ driven by a body force the probe's shear force on the walls balances the driving
 force at steady state (tests/test_probes.py); a drag coefficient is the probe on a
 body's wall group divided by 1/2 rho U^2 D.
 
+``flow`` through a face (a segment in 2D, a rectangle in a coordinate plane in 3D):
+
+    Q = sum_k (u(x_k) . n) |face| / K,    u(x) = sum_j v_j V_j W(x - x_j) / phi(x),
+
+over the face's K points (:func:`taisph.probes.face_points`, the middles of equal parts
+at most dx/2 a side; a dry point counts as no flow), n its unit normal
+(:func:`taisph.probes.flow`): m^2/s per unit depth in 2D, m^3/s in 3D. Near a wall the
+fluid-only interpolation leans towards the fluid's velocity a support away (no wall
+particle enters the sums): in a channel L/20 wide the flow rate of the Poiseuille
+parabola reads within about 1 % (tests/test_probes.py).
+
 Which state: a sample reads the cell-sorted state ``S`` the last step's rates were
 computed from, after the step: the one the forces were computed from, with the dummy
 walls' extrapolated pressure (the updated state ``C`` has no wall pressure, and its
@@ -62,10 +74,10 @@ Cost: one kernel launch per sample (the sums of all due probes in one parallel
 loop) and a download of a few numbers per point; measured in docs/scenes.md.
 """
 
-from .spec import (KINDS, OutsideDomainError, Probe, check_inside, elevation, face_points, force, outside, parse,
-                   pressure)
+from .spec import (KINDS, OutsideDomainError, Probe, check_inside, elevation, face_points, flow, force, outside,
+                   parse, pressure)
 from .writer import ELEVATION_FRACTION, MIN_FLUID_FRACTION, Probes, read_csv, surface_height
 
 __all__ = ["Probe", "Probes", "pressure", "elevation", "force", "read_csv", "surface_height", "KINDS",
            "ELEVATION_FRACTION", "MIN_FLUID_FRACTION", "check_inside", "outside", "OutsideDomainError",
-           "face_points"]
+           "face_points", "flow"]

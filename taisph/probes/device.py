@@ -4,11 +4,12 @@ It reads the cell-sorted state ``S`` of the last step (the state the step's rate
 computed from; see :mod:`taisph.probes` for why) and, in one parallel loop (one wake
 of the thread pool), computes
 
-- for every sample point x_k (pressure probes, and the points of the elevation
-  probes' vertical lines) the kernel sums over fluid particles j within the support,
+- for every sample point x_k (pressure and flow probes, and the points of the
+  elevation probes' vertical lines) the kernel sums over fluid particles j within the
+  support,
 
       phi_k = sum_j V_j W(x_k - x_j, h),      pi_k = sum_j p_j V_j W(x_k - x_j, h),
-      V_j = m_j / rho_j;
+      u_k = sum_j v_j V_j W(x_k - x_j, h),    V_j = m_j / rho_j;
 
 - for every wall particle w of a force probe's wall group, minus the force its
   neighbours' momentum equations get from it through the pressure terms (pressure
@@ -30,7 +31,7 @@ of the thread pool), computes
 Inputs go in through the auxiliary kernel's two ndarray arguments, which this module
 allocates once per :class:`Sampler`:
 
-``aux_real[k, :]``   point k: ``x (dim), active (0/1), phi, pi`` (the last two written);
+``aux_real[k, :]``   point k: ``x (dim), active (0/1), phi, pi, u (dim)`` (the last three written);
                      then one row per force group: ``F (dim)`` (written; zeroed before);
 ``aux_int[0, :]``    ``n_points, n_groups, n_ranges, 0``;
 ``aux_int[1 + r, :]``  id range r of the force groups: ``first id, end id, group, active``.
@@ -84,13 +85,14 @@ def _body(solver):
     dfsph = solver.dfsph  # its pressure force on a wall: dfsph_pressure_force
     p_gravity = rows.get("gravity", -1)
     Rates = solver.Rates
-    ACTIVE, PHI, PI = dim, dim + 1, dim + 2  # columns of a point's row
+    ACTIVE, PHI, PI, U = dim, dim + 1, dim + 2, dim + 3  # columns of a point's row (U: dim of them)
 
     @ti.func
     def point_sums(s: ti.template(), k, support2):
         x = ti.Vector([s.aux_real[k, d] for d in ti.static(range(dim))], dt=real)
         phi = ti.cast(0.0, real)
         pi = ti.cast(0.0, real)
+        u = ti.Vector.zero(real, dim)
         c = grid.coords(s, x)
         for r in range(grid.n_ranges):
             begin, end = grid.slot_range(s, c, r)
@@ -103,8 +105,11 @@ def _body(solver):
                         vw = s.Ss[q.mass, j] / s.Ss[q.density, j] * w
                         phi += vw
                         pi += s.Ss[q.pressure, j] * vw
+                        u += s.Sv[q.velocity, j] * vw
         s.aux_real[k, PHI] = phi
         s.aux_real[k, PI] = pi
+        for d in ti.static(range(dim)):
+            s.aux_real[k, U + d] = u[d]
 
     @ti.func
     def dfsph_pressure_force(s: ti.template(), f, w, rfw, grad):
@@ -185,7 +190,7 @@ class Sampler:
         self._uploaded = None  # the active points and groups last uploaded
         self.ranges = [(a, b, g) for g, ids in enumerate(groups) for a, b in id_ranges(ids)]
         real = sim.state.runtime.numpy_real
-        self.inputs = np.zeros((self.n_points + self.n_groups, dim + 3), real)
+        self.inputs = np.zeros((self.n_points + self.n_groups, 2 * dim + 3), real)
         self.inputs[: self.n_points, :dim] = np.asarray(points, float).reshape(-1, dim)
         ints = np.zeros((1 + len(self.ranges), 4), np.int32)
         ints[0, :3] = self.n_points, self.n_groups, len(self.ranges)
@@ -197,8 +202,8 @@ class Sampler:
 
     def sums(self, points_active, groups_active, time):
         """Run the kernel on the state ``S`` now; `points_active` (P bools) and
-        `groups_active` (G bools) say what to compute. Returns ``(phi, pi, forces)``:
-        (P,), (P,) and (G, dim) arrays (stale where inactive). The inputs are uploaded
+        `groups_active` (G bools) say what to compute. Returns ``(phi, pi, u, forces)``:
+        (P,), (P,), (P, dim) and (G, dim) arrays (stale where inactive). The inputs are uploaded
         only when the active ones change (an upload costs ~40 us)."""
         key = (np.packbits(points_active).tobytes(), np.packbits(groups_active).tobytes())
         if key != self._uploaded:
@@ -211,7 +216,8 @@ class Sampler:
         kernel(self.aux_int, self.aux_real, float(time))
         out = self.aux_real.to_numpy()
         P, d = self.n_points, self.dim
-        return out[:P, d + 1].astype(float), out[:P, d + 2].astype(float), out[P:, :d].astype(float)
+        return (out[:P, d + 1].astype(float), out[:P, d + 2].astype(float), out[:P, d + 3 :].astype(float),
+                out[P:, :d].astype(float))
 
     def free(self):
         from ..engine import runtime

@@ -1,5 +1,5 @@
 """What a probe is: :class:`Probe` (also what a scene file's ``[[probes]]`` become),
-the constructors :func:`pressure`, :func:`elevation`, :func:`force`, the points of a
+the constructors :func:`pressure`, :func:`elevation`, :func:`force`, :func:`flow`, the points of a
 sensor's face (:func:`face_points`) and the one check that its points lie inside the
 scene's domain (:func:`outside`, :func:`check_inside`: the :class:`Probes` writer, the
 command line and scene files all refuse with it). Plain Python and numpy."""
@@ -13,7 +13,8 @@ import numpy as np
 
 from ..messages import InputError
 
-KINDS = ("pressure", "elevation", "force")
+KINDS = ("pressure", "elevation", "force", "flow")
+FACES = ("pressure", "flow")  # the kinds with points in every dimension (a point or a face)
 UP = 1  # the vertical axis: y, in 2D and 3D
 
 
@@ -26,8 +27,9 @@ class Probe:
     (free-surface height) along the vertical line through `at` (x in 2D, (x, z) in
     3D), ``force`` on the wall group `walls` (its name in a scene file, or in Python
     a name the :class:`taisph.probes.Probes` writer is given ids for, or the particle
-    ids themselves: a slice, range, boolean mask or integer array); taken every
-    `every` steps."""
+    ids themselves: a slice, range, boolean mask or integer array), ``flow`` (volume
+    flow rate) through the face from `at` to `to` (:func:`flow`); taken every `every`
+    steps."""
 
     name: str
     kind: str
@@ -53,21 +55,34 @@ class Probe:
             if self.walls is None:
                 raise InputError(f"probe {self.name!r}: a force probe needs walls (a wall group)")
             return
-        n = dim if self.kind == "pressure" else dim - 1
+        n = dim if self.kind in FACES else dim - 1
+        if self.kind == "flow" and self.to is None:
+            raise InputError(f"probe {self.name!r}: a flow probe needs a face: at and to, {dim} numbers each")
         for key in ("at", "to"):
             value = getattr(self, key)
-            if key == "to" and (value is None or self.kind != "pressure"):
+            if key == "to" and (value is None or self.kind not in FACES):
                 if value is not None:
-                    raise InputError(f"probe {self.name!r}: to = {value!r}; only a pressure probe takes to")
+                    raise InputError(f"probe {self.name!r}: to = {value!r}; only pressure and flow probes take to")
                 continue
             if not (isinstance(value, (tuple, list)) and len(value) == n and all(_finite(v) for v in value)):
                 what = "a point" if self.kind == "pressure" else "the horizontal position of its vertical line"
                 raise InputError(f"probe {self.name!r}: {key} = {value!r}; a {self.kind} probe in {dim}D takes "
                                  f"{what}, {n} number(s)")
+        if self.kind == "flow" and (bad := face_problem(self.at, self.to, dim)):
+            raise InputError(f"probe {self.name!r}: at = {self.at!r}, to = {self.to!r}: {bad}")
         if self.to is not None and dim == 3 and all(a != b for a, b in zip(self.at, self.to)):
             raise InputError(f"probe {self.name!r}: at = {self.at!r}, to = {self.to!r}: in 3D a face is a rectangle "
                              "in a coordinate plane (or a segment along an axis) with opposite corners at and to, "
                              "which must share at least one coordinate (the rectangle's plane)")
+
+
+def face_problem(at, to, dim: int) -> str | None:
+    """What is wrong with a flow probe's face from `at` to `to` in a `dim`-D scene, or None."""
+    differ = sum(a != b for a, b in zip(at, to))
+    if differ == 2 or (dim == 2 and differ == 1):  # 2D: any segment; 3D: a rectangle
+        return None
+    return "a flow probe's face is " + ("a segment of non-zero length" if dim == 2 else
+                                        "a rectangle in a coordinate plane (at and to differ in exactly two coordinates)")
 
 
 def _finite(v) -> bool:
@@ -83,6 +98,27 @@ def pressure(name: str, at, every: int = 1, to=None) -> Probe:
     a segment along an axis if they differ in one (:func:`face_points`)."""
     return Probe(name, "pressure", at=tuple(float(v) for v in at), every=every,
                  to=None if to is None else tuple(float(v) for v in to))
+
+
+def flow(name: str, at, to, every: int = 1) -> Probe:
+    """Volume flow rate through the face from `at` to `to`, Q = integral of u . n over it
+    (m^2/s per unit depth in 2D, m^3/s in 3D), u the Shepard interpolation of the fluid's
+    velocity at the face's points (:func:`face_points`; dry points count as 0). The normal
+    n: in 2D the direction from `at` to `to` turned clockwise (a face drawn upwards counts
+    flow along +x); in 3D the +axis of the coordinate the rectangle's corners share (a
+    face at x = 1 counts flow along +x)."""
+    return Probe(name, "flow", at=tuple(float(v) for v in at), to=tuple(float(v) for v in to), every=every)
+
+
+def face_normal(at, to) -> tuple:
+    """A flow face's unit normal and the measure (length or area) of each of its
+    ``len(face_points(at, to, spacing))`` equal parts' whole: (normal, measure)."""
+    a, b = np.asarray(at, float), np.asarray(to, float)
+    if len(a) == 2:
+        t = (b - a) / np.linalg.norm(b - a)
+        return np.array([t[1], -t[0]]), float(np.linalg.norm(b - a))
+    shared = [k for k in range(3) if a[k] == b[k]][0]
+    return np.eye(3)[shared], float(np.prod([abs(b[k] - a[k]) for k in range(3) if k != shared]))
 
 
 def elevation(name: str, at, every: int = 1) -> Probe:
@@ -142,7 +178,7 @@ def outside(probe: Probe, domain):
     if probe.kind == "force":
         return None
     lo, hi = (np.asarray(v, float).reshape(-1) for v in domain)
-    axes = range(len(lo)) if probe.kind == "pressure" else [a for a in range(len(lo)) if a != UP]
+    axes = range(len(lo)) if probe.kind in FACES else [a for a in range(len(lo)) if a != UP]
     for key in ("at", "to"):
         for a, v in zip(axes, getattr(probe, key) or ()):
             if not lo[a] <= v <= hi[a]:
@@ -169,12 +205,12 @@ def parse(text: str, dim: int) -> Probe:
     """A probe from the command line's ``--probe KIND:NAME:WHERE[:EVERY]``:
     ``pressure:P1:3.22,0.16`` (a point), ``elevation:gauge:0.6:10`` (the vertical line at
     x = 0.6, every 10 steps), ``force:F:walls`` (a wall group: ``walls``, all wall
-    particles of a case, or a scene file's group name). InputError (a ValueError)
-    naming the text."""
+    particles of a case, or a scene file's group name), ``flow:Q:2,0,2,1`` (the face
+    from (2, 0) to (2, 1): `at` then `to`). InputError (a ValueError) naming the text."""
     parts = text.split(":")
     if len(parts) not in (3, 4) or parts[0] not in KINDS or not parts[1]:
         raise InputError(f"--probe {text}: expected KIND:NAME:WHERE[:EVERY], KIND one of {', '.join(KINDS)} "
-                         "(e.g. pressure:P1:3.22,0.16, elevation:gauge:0.6:10, force:F:walls)")
+                         "(e.g. pressure:P1:3.22,0.16, elevation:gauge:0.6:10, force:F:walls, flow:Q:2,0,2,1)")
     kind, name, where = parts[:3]
     every = 1
     if len(parts) == 4:
@@ -189,7 +225,11 @@ def parse(text: str, dim: int) -> Probe:
             at = tuple(float(v) for v in where.split(","))
         except ValueError:
             raise InputError(f"--probe {text}: {where!r} is not comma-separated numbers") from None
-        probe = Probe(name, kind, at=at, every=every)
+        if kind == "flow":  # at, then to
+            half = len(at) // 2
+            probe = Probe(name, kind, at=at[:half], to=at[half:] if len(at) == 2 * half else (), every=every)
+        else:
+            probe = Probe(name, kind, at=at, every=every)
     try:
         probe.check(dim)
     except ValueError as err:

@@ -14,7 +14,7 @@ from ..messages import InputError
 from ..engine.integrators import PredictorCorrector
 from ..engine.layout import WALL
 from .device import Sampler
-from .spec import UP, Probe, check_inside, face_points
+from .spec import UP, Probe, check_inside, face_normal, face_points
 
 ELEVATION_FRACTION = 0.5  # the free surface: where the fluid fraction phi falls through 1/2
 MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a corner has 1/4; taisph.probes)
@@ -105,7 +105,7 @@ class Probes:
             start = len(points)
             if p.kind == "pressure" and p.to is None:
                 points.append(np.asarray(p.at, float))
-            elif p.kind == "pressure":  # a sensor's face: the middles of its parts, at most dx/2 a side
+            elif p.kind in ("pressure", "flow"):  # a face: the middles of its parts, at most dx/2 a side
                 points += list(face_points(p.at, p.to, spacing))
             elif p.kind == "elevation":
                 for y in self._line:
@@ -163,7 +163,7 @@ class Probes:
                     groups[self._slices[p.name]] = True
                 else:
                     points[self._slices[p.name]] = True
-        phi, pi, forces = sampler.sums(points, groups, time)
+        phi, pi, u, forces = sampler.sums(points, groups, time)
         row, taken = [], []
         for p in self.probes:
             taken.append(p.name in due)
@@ -177,6 +177,12 @@ class Probes:
                 row.append(float(values.mean()) if wet.any() else math.nan)
             elif p.kind == "elevation":
                 row.append(surface_height(self._line, phi[self._slices[p.name]]))
+            elif p.kind == "flow":  # Q = sum over the face's equal parts of u . n times a part's measure
+                part = self._slices[p.name]
+                wet = phi[part] >= self.min_fluid_fraction
+                normal, measure = face_normal(p.at, p.to)
+                un = np.where(wet, (u[part] @ normal) / np.where(wet, phi[part], 1.0), 0.0)  # dry: no flow
+                row.append(float(un.sum() * measure / len(un)))
             else:
                 row += list(forces[self._slices[p.name]])
         self._times.append(time)
