@@ -97,7 +97,7 @@ class Probes:
             p.check(dim)
         check_inside(self.probes, sim.scene.domain)  # before the first step: nothing sampled, no file
         kinds = sim.scene.kind
-        points, self._slices, groups = [], {}, []
+        points, self._slices, groups, self._normals = [], {}, [], {}
         lo, hi = (np.asarray(v, float) for v in sim.scene.domain)
         spacing = sim.scene.dx / 2.0
         self._line = np.arange(lo[UP], hi[UP] + 0.5 * spacing, spacing)  # heights of elevation samples
@@ -107,6 +107,8 @@ class Probes:
                 points.append(np.asarray(p.at, float))
             elif p.kind in ("pressure", "flow"):  # a face: the middles of its parts, at most dx/2 a side
                 points += list(face_points(p.at, p.to, spacing))
+                if p.kind == "flow":
+                    self._normals[p.name] = face_normal(p.at, p.to)
             elif p.kind == "elevation":
                 for y in self._line:
                     x = list(p.at)
@@ -180,7 +182,7 @@ class Probes:
             elif p.kind == "flow":  # Q = sum over the face's equal parts of u . n times a part's measure
                 part = self._slices[p.name]
                 wet = phi[part] >= self.min_fluid_fraction
-                normal, measure = face_normal(p.at, p.to)
+                normal, measure = self._normals[p.name]
                 un = np.where(wet, (u[part] @ normal) / np.where(wet, phi[part], 1.0), 0.0)  # dry: no flow
                 row.append(float(un.sum() * measure / len(un)))
             else:

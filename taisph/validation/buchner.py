@@ -38,15 +38,12 @@ Metrics (:func:`compare`), from the probe's samples (every step):
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 
 import numpy as np
 
-from ..formats.scenefile import load
 from .outcome import Outcome
-from ..probes import Probes
-from ..run.simulation import Simulation, SimulationError
+from .probed import run_probed
 from ..scene.catalogue import find_scene_file
 
 DATA = Path(__file__).resolve().parent / "references" / "data"
@@ -127,31 +124,14 @@ def run(dx: float = 0.01, t_end: float | None = None, out=None, overrides: dict 
     or "")."""
     scale = math.sqrt(G / H)
     t_end = 6.1 / scale if t_end is None else t_end
-    scene, settings = load(scene_file(), {"dx": dx, "t_end": t_end, **(overrides or {})})
-    if settings.courant is not None:
-        controls.setdefault("courant", settings.courant)
-    start = time.perf_counter()
-    sim = Simulation(scene, **controls)
-    setup = time.perf_counter() - start
-    path = Path(out) / "probes.csv" if out is not None else None
-    probes = Probes(settings.probes, walls=settings.wall_groups, path=path)
-    stopped = ""
-    start = time.perf_counter()
-    try:
-        sim.run(t_end, frames=1, writers=[probes])
-    except SimulationError as err:
-        stopped = str(err).splitlines()[0]
-    wall = time.perf_counter() - start
-    result = dict(dx=dx, steps=sim.steps, wall_s=wall, setup_s=setup, fluid=scene.n_fluid, particles=sim.n,
-                  precision=sim.runtime.precision, t_end=sim.time, stopped=stopped)
+    series, result = run_probed(scene_file(), {"dx": dx, **(overrides or {})}, t_end, out, **controls)
+    result["dx"] = dx
     for name, sensor in PROBES.items():
-        if name in {p.name for p in settings.probes}:
-            T, p = probes.series(name)
-            T, P = T * scale, p / (RHO0 * G * H)
+        if name in series:
+            t, p = series[name]
+            T, P = t * scale, p / (RHO0 * G * H)
             result[name] = compare(T, P, sensor)
             result[f"{name}_series"] = (T, P)
-    probes.close()
-    sim.close()
     return result
 
 

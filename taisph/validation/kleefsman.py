@@ -40,15 +40,12 @@ of vibration from the gate's release, and the height gauges +-0.5 mm.
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 
 import numpy as np
 
 from .buchner import impact_time, moving_average
-from ..formats.scenefile import load
-from ..probes import Probes
-from ..run.simulation import Simulation, SimulationError
+from .probed import run_probed
 from ..scene.catalogue import find_scene_file
 
 DATA = Path(__file__).resolve().parent / "references" / "data" / "kleefsman2005_spheric2.csv"
@@ -109,29 +106,13 @@ def run(dx: float = 0.04, t_end: float = 2.0, out=None, overrides: dict | None =
     """Run the scene file at `dx` to `t_end` with its probes and compare them with the
     experiment. `overrides`: further scene-file keys (``{"solver": "dfsph"}``); `controls`:
     simulation controls; `out`: a folder for probes.csv. Returns {"P1": metrics, ...,
-    "H2": metrics, "H4": metrics, "P1_series": (t, p), ..., "dx", "steps", "wall_s", "fluid",
-    "particles", "t_end", "stopped"}."""
-    scene, settings = load(scene_file(), {"dx": dx, "t_end": t_end, **(overrides or {})})
-    if settings.courant is not None:
-        controls.setdefault("courant", settings.courant)
-    sim = Simulation(scene, **controls)
-    path = Path(out) / "probes.csv" if out is not None else None
-    probes = Probes(settings.probes, walls=settings.wall_groups, path=path)
-    stopped = ""
-    start = time.perf_counter()
-    try:
-        sim.run(t_end, frames=1, writers=[probes])
-    except SimulationError as err:
-        stopped = str(err).splitlines()[0]
-    wall = time.perf_counter() - start
-    result = dict(dx=dx, steps=sim.steps, wall_s=wall, fluid=scene.n_fluid, particles=sim.n, t_end=sim.time,
-                  stopped=stopped)
-    names = {p.name for p in settings.probes}
+    "H2": metrics, "H4": metrics, "P1_series": (t, p), ..., "dx" and what
+    :func:`taisph.validation.probed.run_probed` says of the run ("steps", "wall_s", "stopped"...)}."""
+    series, result = run_probed(scene_file(), {"dx": dx, **(overrides or {})}, t_end, out, **controls)
+    result["dx"] = dx
     for name in PRESSURE_SENSORS + HEIGHT_GAUGES:
-        if name in names:
-            t, v = probes.series(name)
+        if name in series:
+            t, v = series[name]
             result[name] = compare_pressure(t, v, name) if name.startswith("P") else compare_height(t, v, name)
             result[f"{name}_series"] = (t, v)
-    probes.close()
-    sim.close()
     return result
