@@ -200,8 +200,8 @@ def run_case(name: str, argv) -> int:
         scene.solver = solver
     if args.dt is not None:
         scene.dt = args.dt
-    walls = {"walls": np.flatnonzero(scene.kind == WALL)}
-    probes = command_line_probes(args, scene, walls)
+    walls = {"walls": np.flatnonzero(scene.kind == WALL), **scene.wall_groups}  # a case may name groups
+    probes = list(scene.probes) + command_line_probes(args, scene, walls)  # its own probes, then --probe's
     folder = probe_folder(scene, args)  # OUT, also with --no-output (which writes no frames)
     writers = probe_writers(probes, walls, folder)
     try:

@@ -22,6 +22,7 @@ from . import guards, integrators, kernels, neighbours, runtime, smoothing, time
 from .dfsph import solver as dfsph
 from .dfsph import pairs
 from .layout import Layout
+from ..terms import open_boundary
 from ..scene.solvers import dfsph_kept_terms
 
 
@@ -33,7 +34,8 @@ class Buffers(collections.namedtuple("Buffers", "v s i")):
 
 
 class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill "
-                                          "params mat sizes status flags x_ref nlist ncount aux_int aux_real")):
+                                          "params mat sizes status flags x_ref nlist ncount aux_int aux_real "
+                                          "tables")):
     """The fields every kernel works on (:mod:`.fields`); a kernel takes ``t_target``,
     the time the step must not pass (f64). Inside kernels ``s.<name>``:
 
@@ -45,6 +47,7 @@ class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count 
     status, flags  device clock, dt history and guard flags (:mod:`.status`)
     x_ref, nlist, ncount   neighbour lists (a dummy row without lists; :mod:`.neighbours`)
     aux_int, aux_real   outputs of auxiliary kernels (neighbour pairs, probes); dummies in a step
+    tables         lookup tables of terms (open boundaries' velocity tables; one entry without)
     """
 
     __slots__ = ()
@@ -194,6 +197,9 @@ class Solver:
         self.Rates = ti.types.struct(**fields)
         self.vec = ti.types.vector(dim, real)
         self.field_sets = []  # the FieldSets allocated for this configuration (taisph.engine.fields)
+        # open boundaries (taisph.terms.open_boundary): their term, a bound copy, or None
+        self.open = next((t for t in self.terms if t.name == "open_boundaries"), None)
+        self.table_capacity = open_boundary.TABLE_CAPACITY if self.open is not None else 1
 
     def active_terms(self, scene) -> list:
         """The scene's terms compiled into this solver's kernels (DFSPH: its non-pressure ones)."""
@@ -267,14 +273,17 @@ class Solver:
         return build
 
     def step_kernels(self, fields, serial_sort: bool) -> tuple:
-        """The kernels of one step on `fields` (a FieldSet), in order: sort, the passes, force
+        """The kernels of one step on `fields` (a FieldSet), in order: sort, (open boundaries'
+        buffer values), the passes, force, (open boundaries' bookkeeping)
         (DFSPH: one callable, :class:`taisph.engine.dfsph.solver.Stepper`, which iterates its solves)."""
         if self.dfsph:
             return fields.kernel(("dfsph", serial_sort), lambda args: (dfsph.Stepper(self, fields, serial_sort),))
 
         def build(args):  # only on the first call for these fields: the step's hot path is the cache lookup
-            bodies = [kernels.sort_body(self, serial_sort), *[kernels.pass_body(self, p) for p in self.passes],
-                      kernels.force_body(self)]
+            opened = [self.open] if self.open is not None else []  # open boundaries: a pass before, one after
+            bodies = [kernels.sort_body(self, serial_sort), *[t.after_sort(self) for t in opened],
+                      *[kernels.pass_body(self, p) for p in self.passes], kernels.force_body(self),
+                      *[t.after_force(self) for t in opened]]
             return tuple(self.make_kernel(b)(args) for b in bodies)
 
         return fields.kernel(("step", serial_sort), build)

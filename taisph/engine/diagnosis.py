@@ -69,12 +69,13 @@ def collect(sim) -> dict:
     ids = records[:, 0]
     particles = []
     for pid, code in records:
+        k = int(np.searchsorted(ints[q.id], pid))  # ids sorted; past the scene's with open boundaries
         particles.append(dict(
             id=int(pid),
             problems=[name for bit, name in st.CODE_NAMES.items() if code & bit],
-            position=vec[q.position][pid].tolist(),
-            velocity=vec[q.velocity][pid].tolist(),
-            density=float(sca[q.density][pid]),
+            position=vec[q.position][k].tolist(),
+            velocity=vec[q.velocity][k].tolist(),
+            density=float(sca[q.density][k]),
         ))
     rho0 = np.array([getattr(m, "rho0", np.nan) for m in sim.scene.materials])
     fluid = ints[q.kind] == FLUID
@@ -224,8 +225,7 @@ def write_evidence(sim, report, folder, files=None) -> list:
         write_vtu(path, vec[q.position][fluid], _point_arrays(vec, sca, ints, q, fluid))
         files.append(path)
     vec, sca, ints = sim.state.to_numpy()
-    bad = np.zeros(len(ints[q.id]), bool)
-    bad[report["ids"]] = True
+    bad = np.isin(ints[q.id], report["ids"])  # by id (open boundaries: ids past the scene's)
     if bad.any():
         path = folder / f"{sim.scene.name}_offending.vtu"
         write_vtu(path, np.nan_to_num(vec[q.position][bad], posinf=1e30, neginf=-1e30),

@@ -137,7 +137,7 @@ def copy_rows(solver):
     return copy
 
 
-def _derive(solver):
+def derive_all(solver):
     """A ti.func(s, i): the equation of state and the terms' ``derive`` for particle i."""
     eos = solver.eos
     derive_terms = [t for t in solver.terms if t.has_derive]
@@ -174,7 +174,7 @@ def sort_body(solver, serial: bool):
     q = solver.layout.q
     copy = copy_rows(solver)
     grid, integ, timestep = solver.grid, solver.integrator, solver.timestep
-    derive = _derive(solver)
+    derive = derive_all(solver)
     real = solver.real
 
     @ti.func
@@ -214,7 +214,7 @@ def pass_body(solver, neighbour_pass):
     """One pre-force neighbour sum over the selected particles (see above)."""
     q = solver.layout.q
     grid = solver.grid
-    derive = _derive(solver)
+    derive = derive_all(solver)
     visitor = _PassSum(solver, neighbour_pass)
     select = SELECT[neighbour_pass.select]
     p_support2 = solver.param_rows["support2"]
@@ -246,6 +246,7 @@ def force_body(solver):
     Rates = solver.Rates
     p_support2 = solver.param_rows["support2"]
     local_parameters = _local_parameters(solver)
+    open_zone = getattr(q, "open_zone", -1)  # compile time: open boundaries (taisph.terms.open_boundary)
 
     @ti.func
     def body(s_mem: ti.template(), t_target):
@@ -254,7 +255,12 @@ def force_body(solver):
         for i in range(n):
             s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
             copy(s.S, i, s.C, i)  # the integrator then writes what it advances
-            if s.Si[q.kind, i] == FLUID:
+            buffer = False  # an open boundary's buffer particle: moves with its imposed velocity
+            if ti.static(open_zone >= 0):
+                buffer = s.Si[open_zone, i] > 0
+            if buffer:
+                integ.advance_wall(s, i, dt)
+            elif s.Si[q.kind, i] == FLUID:
                 rates = Rates(acc=ti.Vector.zero(real, dim))  # other members zero-initialised
                 for t in ti.static(body_terms):
                     ti.static(_traced(t.name, "body"))
@@ -286,7 +292,7 @@ def copy_body(solver, source, target):
 def pressure_body(solver):
     """The equation of state (and derived quantities) of the state in ``C`` (or any
     buffers passed as ``C``), in place: pressure for output."""
-    derive = _derive(solver)
+    derive = derive_all(solver)
 
     @ti.func
     def body(s: ti.template(), t_target):

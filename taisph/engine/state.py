@@ -37,7 +37,9 @@ class State:
 
     def __init__(self, scene, solver, rt: runtime.Runtime, grid=None):
         self.solver, self.runtime = solver, rt
-        self.n = scene.n
+        self._n = scene.n
+        # open boundaries create particles: room for this many more than are in use
+        self.reserve = solver.open.reserve(scene) if solver.open is not None else 0
         self.n_materials = len(scene.materials)
         self.list_capacity = (neighbours.list_capacity(scene) if solver.lists
                               else pairs.capacity(scene) if solver.dfsph else 1)
@@ -45,15 +47,23 @@ class State:
             grid = neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene), scene.position)
         self.grid = neighbours.GridLayout(*grid)
         self._check_grid(scene, self.grid)
-        self.fields = fieldpool.acquire(solver, rt, self.n, self.grid.n_cells, self.list_capacity,
+        self.fields = fieldpool.acquire(solver, rt, self._n + self.reserve, self.grid.n_cells, self.list_capacity,
                                         self.n_materials)
         self.good_time = self.good_steps = 0
+        self.good_n = self._n
         self.good_dt_stable = float("inf")
         self.has_good = False
         self.ncount.fill(-1)
-        self._write_sizes()
+        self._write_sizes(self._n)
         self._masses, self._masses_key = None, None  # cached mass sums and their (host writes, removed count)
         self._host_writes = 0
+
+    @property
+    def n(self) -> int:
+        """Particles in use (with open boundaries the device changes it every step)."""
+        if self.solver.open is not None and getattr(self, "fields", None) is not None:
+            self._n = int(self.sizes[st.N_PARTICLES])
+        return self._n
 
     @property
     def args(self) -> Args:
@@ -121,12 +131,12 @@ class State:
         if problem:
             raise InputError(f"scene {scene.name!r}: {problem} (domain {scene.domain[0]} .. {scene.domain[1]})")
 
-    def _write_sizes(self):
+    def _write_sizes(self, n: int):
         shape = self.grid.shape
         sizes = np.ones(st.SIZES_SIZE, np.int32)
         sizes[st.GRID_SHAPE : st.GRID_SHAPE + len(shape)] = shape
         sizes[st.N_CELLS] = self.grid.n_cells
-        sizes[st.N_PARTICLES] = self.n
+        sizes[st.N_PARTICLES] = self._n = n
         sizes[st.LIST_CAPACITY] = self.list_capacity
         self.sizes.from_numpy(sizes)
 
@@ -140,18 +150,44 @@ class State:
         grid = neighbours.GridLayout(*grid)
         self._check_grid(scene, grid)
         n_cells = grid.n_cells
+        n = self.n
         if n_cells > self.fields.cell_capacity:
-            kept = self.arrays()
-            old = self.fields
-            self.fields = fieldpool.acquire(self.solver, self.runtime, self.n, n_cells, self.list_capacity,
-                                            self.n_materials)
-            fieldpool.release(old)
-            self.grid = grid
-            self.restore(kept)
+            self._move(n + self.reserve, n_cells, grid)
         self.grid = neighbours.GridLayout(lo=np.asarray(grid.lo), cell=np.asarray(grid.cell), shape=tuple(grid.shape))
         self.cell_count.fill(0)
-        self._write_sizes()
+        self._write_sizes(n)
         self.write(st.FORCE_REBUILD, 1.0)  # new cells: new lists
+
+    def _move(self, capacity: int, n_cells: int, grid=None):
+        """Move the state to a field set with room for `capacity` particles and `n_cells`
+        cells (its kernels compile once for it)."""
+        kept = self.arrays()
+        old = self.fields
+        self.fields = fieldpool.acquire(self.solver, self.runtime, capacity, n_cells, self.list_capacity,
+                                        self.n_materials)
+        fieldpool.release(old)
+        if grid is not None:
+            self.grid = neighbours.GridLayout(*grid)
+        self.restore(kept)
+
+    def ensure_room(self) -> bool:
+        """With open boundaries: move to larger fields if fewer than ``reserve`` free
+        particle slots are left (before a batch of steps). True if it moved (the
+        parameters must then be uploaded again)."""
+        n = self.n
+        if self.solver.open is None or n + self.reserve <= self.fields.capacity:
+            return False
+        self._move(2 * (n + self.reserve), self.grid.n_cells)
+        return True
+
+    def check_room(self, time: float):
+        """Raise if a zone could not create a particle for lack of room (the reserve was short)."""
+        if self.solver.open is not None and self.read_flag(st.NO_ROOM):
+            raise RuntimeError(
+                f"open boundaries: {self.read_flag(st.NO_ROOM)} particles could not be created at t = {time:.6g} s: "
+                f"the fields hold {self.fields.capacity} particles, {self.n} were in use and {self.reserve} were "
+                "kept free before each batch of steps, which the batch exceeded (reserve: "
+                "taisph.terms.open_boundary.OpenBoundaries.reserve); please report it with the scene")
 
     def upload_parameters(self, scene, controls, dt=None):
         table = self.solver.param_table(scene, self.grid.lo, self.grid.cell, controls, dt)
@@ -159,13 +195,18 @@ class State:
         self.params.from_numpy(table.astype(self.runtime.numpy_real))
         mat = self.solver.material_table(scene).astype(self.runtime.numpy_real)
         self.mat.from_numpy(np.pad(mat, ((0, self.fields.materials - len(mat)), (0, 0))))
+        if self.solver.open is not None:
+            terms = scene.terms_by_name["open_boundaries"].table_values().astype(self.runtime.numpy_real)
+            self.fields.args.tables.from_numpy(np.pad(terms, (0, self.solver.table_capacity - len(terms))))
 
     def reset_status(self):
         status = np.zeros(st.STATUS_SIZE)
         status[st.DT_MIN] = status[st.DT_STABLE_MIN] = np.inf
         status[st.FORCE_REBUILD] = 1.0
         self.status.from_numpy(status)
-        self.flags.from_numpy(np.zeros(st.FLAGS_SIZE, np.int32))
+        flags = np.zeros(st.FLAGS_SIZE, np.int32)
+        flags[st.NEXT_ID] = self.n  # the id of the first particle an open boundary creates
+        self.flags.from_numpy(flags)
 
     # --- status ------------------------------------------------------------------------
     def read(self, index: int) -> float:
@@ -195,7 +236,8 @@ class State:
         memory order, the particles in use only, with the pressure recomputed."""
         self.solver.pressure_kernel(self.fields, good)(0.0)
         buffers = self.fields.good if good else self.C
-        vec, sca, ints = (f.to_numpy()[:, : self.n] for f in buffers)
+        n = self.good_n if good else self.n
+        vec, sca, ints = (f.to_numpy()[:, :n] for f in buffers)
         return vec, sca, ints
 
     def fluid_and_removed_mass(self) -> tuple:
@@ -206,11 +248,14 @@ class State:
         or a write from the host: reading the whole state back for them is slow at 1M
         particles (docs/performance.md)."""
         key = (self._host_writes, self.read_flag(st.REMOVED_COUNT))
-        if key != self._masses_key:
+        if key != self._masses_key or self.solver.open is not None:  # open: mass comes and goes
             L, n = self.solver.layout, self.n
             mass = self.C.s.to_numpy()[L.q.mass, :n].astype(float)
-            kind = self.C.i.to_numpy()[L.q.kind, :n]
-            self._masses = (float(mass[kind == FLUID].sum()), float(mass[kind == REMOVED].sum()))
+            ints = self.C.i.to_numpy()[:, :n]
+            fluid = ints[L.q.kind] == FLUID
+            if self.solver.open is not None:
+                fluid &= ints[L.q.open_zone] == 0  # not the buffers
+            self._masses = (float(mass[fluid].sum()), float(mass[ints[L.q.kind] == REMOVED].sum()))
             self._masses_key = key
         return self._masses
 
@@ -239,6 +284,7 @@ class State:
     def keep_good(self, time: float, steps: int):
         """Copy C aside (device to device) before a batch of steps."""
         self.solver.copy_kernel(self.fields)(0.0)
+        self.good_n = self.n  # (open boundaries change the count)
         self.has_good = True
         self.good_time, self.good_steps = time, steps
         self.good_dt_stable = self.read(st.DT_STABLE_MIN)
@@ -260,15 +306,25 @@ class State:
     def restore(self, arrays):
         """The inverse of :meth:`arrays` (the grid already set up)."""
         vec, ints, q = arrays["C0"], arrays["C2"], self.solver.layout.q
+        if vec.shape[1] + self.reserve > self.fields.capacity:  # an open boundary's run had grown
+            old = self.fields
+            self.fields = fieldpool.acquire(self.solver, self.runtime, vec.shape[1] + self.reserve,
+                                            self.grid.n_cells, self.list_capacity, self.n_materials)
+            fieldpool.release(old)
         removed = ints[q.kind] == REMOVED
         if removed.any():  # older checkpoints left removed particles where they were
             vec = vec.copy()
             vec[q.position][removed] = np.nan
             vec[q.velocity][removed] = 0.0
         self.set_state(vec, arrays["C1"], ints)
-        self.status.from_numpy(arrays["status"])
+        self._write_sizes(vec.shape[1])
+        status = np.zeros(st.STATUS_SIZE)  # checkpoints before MASS_IN had two less
+        status[: len(arrays["status"])] = arrays["status"]
+        self.status.from_numpy(status)
         flags = np.zeros(st.FLAGS_SIZE, np.int32)  # checkpoints before OUT_OF_RANGE_COUNT had one less
         flags[: len(arrays["flags"])] = arrays["flags"]
+        if len(arrays["flags"]) <= st.NEXT_ID:
+            flags[st.NEXT_ID] = vec.shape[1]
         self.flags.from_numpy(flags)
         for name, axis in (("x_ref", 0), ("ncount", 0)):
             data = arrays[name]

@@ -30,7 +30,11 @@ REBUILDS = 14
 # step longer than needed (it cannot know the adaptive dt ahead), and the launch must do
 # nothing at all, or the last state would depend on how the batches fell (timing)
 IDLE = 15
-STATUS_SIZE = 16
+# open boundaries (taisph.terms.open_boundary): mass that entered the fluid from a zone's
+# buffer, and mass that left it into one, since the start
+MASS_IN = 16
+MASS_OUT = 17
+STATUS_SIZE = 18
 
 # ``flags`` (i32): guard failures (taisph.engine.guards) and removed particles
 CODES = 0  # OR of the failure bits below
@@ -40,7 +44,11 @@ RECORDS = 3  # (id, code) pairs of the first MAX_RECORDED offending particles fr
 MAX_RECORDED = 16
 # of those, removed because their density left the range (taisph.engine.guards)
 OUT_OF_RANGE_COUNT = RECORDS + 2 * MAX_RECORDED
-FLAGS_SIZE = OUT_OF_RANGE_COUNT + 1
+# open boundaries: the id the next particle created gets, and how many particles a zone
+# could not create for lack of room in the fields (the host grows them ahead of need)
+NEXT_ID = OUT_OF_RANGE_COUNT + 1
+NO_ROOM = NEXT_ID + 1
+FLAGS_SIZE = NO_ROOM + 1
 
 NONFINITE, DENSITY, ESCAPED = 1, 2, 4
 # DFSPH (taisph.engine.dfsph): a pressure solve reached its maximum iterations unconverged;

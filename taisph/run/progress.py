@@ -73,6 +73,8 @@ class RunSummary:
     pressure_solve: dict | None = None  # DFSPH: iterations per step, errors, steps above tolerance (dfsph.Stats.summary)
     out_of_range: int = 0  # of `removed`: density out of the guard's range (taisph.engine.guards)
     replaced_frames: int = 0  # frames of an earlier series in `out` removed when this run began (run/vtk.py)
+    open_mass: tuple | None = None  # open boundaries: (mass in, mass out) since the start, kg
+    buffer_particles: int = 0  # open boundaries: particles in their buffers (of `particles`)
 
     @property
     def particle_steps_per_second(self) -> float:
@@ -93,6 +95,9 @@ class RunSummary:
                 why = (f"{self.removed} particles: {self.removed - self.out_of_range} left the domain, "
                        f"{self.out_of_range} with density out of range")
             removed += f" + {self.removed_mass:.4g} kg removed ({why}) = {self.fluid_mass + self.removed_mass:.6g} kg"
+        if self.open_mass is not None:
+            removed += (f" (open boundaries since t = 0: {self.open_mass[0]:.6g} kg in, {self.open_mass[1]:.6g} kg "
+                        "out)")
         if self.pressure_solve:
             ps = self.pressure_solve
             removed += (f", DFSPH iterations per step: density {ps['density_iterations_mean']:.1f} (max "
@@ -105,7 +110,9 @@ class RunSummary:
             if ps.get("retries"):
                 removed += f", {ps['retries']} steps retried with half the dt (a solve ended beyond the bound)"
         return (
-            f"{self.fluid_particles} fluid + {self.particles - self.fluid_particles} wall particles, "
+            f"{self.fluid_particles} fluid + "
+            + (f"{self.buffer_particles} open-boundary buffer + " if self.buffer_particles else "")
+            + f"{self.particles - self.fluid_particles - self.buffer_particles} wall particles, "
             f"{self.steps} steps to t = {self.sim_time:.4g} s in {self.wall_time:.2f} s wall "
             f"({self.particle_steps_per_second / 1e6:.2f} M fluid particle-steps/s), "
             f"dt min/mean/max {self.dt_min:.3g}/{self.dt_mean:.3g}/{self.dt_max:.3g} s, "

@@ -14,7 +14,6 @@ import taichi as ti
 
 from ..engine import assembly, runtime, timestep
 from ..engine import status as st
-from ..engine.layout import FLUID, WALL
 from ..engine.diagnosis import SimulationError  # noqa: F401 (taisph.run.simulation.SimulationError)
 from ..engine.state import State
 from ..engine.timestep import Controls
@@ -22,6 +21,7 @@ from . import checkpoint
 from .checkpoint import CheckpointWriter
 from ..messages import TaisphRuntimeWarning
 from .progress import Progress, RunSummary
+from .readout import Readout
 
 # Below this many particles the sort pass runs serially: waking the thread pool
 # costs more than the work (measured, see docs/performance.md), and a serial
@@ -39,7 +39,7 @@ class Restore:
     serial_sort: bool
 
 
-class Simulation:
+class Simulation(Readout):
     """Simulate a :class:`taisph.Scene`.
 
     >>> sim = Simulation(taisph.cases.dam_break(dx=0.05))
@@ -61,13 +61,13 @@ class Simulation:
         self.scene = scene
         self.runtime = runtime.init(arch, precision, threads)
         self.solver = assembly.get(scene)
-        self.dim, self.n, self.n_fluid = scene.dim, scene.n, scene.n_fluid
+        self.dim, self._n_fluid = scene.dim, scene.n_fluid
         unknown = set(controls) - {f.name for f in fields(Controls)}
         if unknown:
             raise TypeError(f"unknown simulation option(s): {', '.join(sorted(unknown))}")
         controls.setdefault("dt", scene.dt)
         self.controls = timestep.controls_for(scene, **controls)
-        self.serial_sort = self.n < SERIAL_SORT_BELOW or self.controls.deterministic
+        self.serial_sort = scene.n < SERIAL_SORT_BELOW or self.controls.deterministic
         self._step_writers, self._launched = (), 0  # writers called every k steps (run)
         self._warned_dt, self._solve_stats = False, None  # DFSPH: this simulation's solve statistics
         self._snapshot_key = None
@@ -84,6 +84,10 @@ class Simulation:
             self.state.reset_status()
             self._advance_one(self.time)  # bootstrap (dt = 0): pressure, first rates, maxima
         self._read_status()
+
+    n = property(lambda self: self.state.n, doc="Particles in use (open boundaries create and retire them).")
+    n_fluid = property(lambda self: self._n_fluid if self.solver.open is None else int(np.count_nonzero(self.fluid)),
+                       doc="Fluid particles (with open boundaries: in the fluid, not in the buffers).")
 
     def _setup_grid(self, grid=None):
         self.state.setup_grid(self.scene, grid)
@@ -169,6 +173,8 @@ class Simulation:
                 return
             estimate = math.ceil(remaining / max(self.dt, 1e-300)) if math.isfinite(remaining) else batch
             n = max(1, min(batch, estimate, (max_steps - done) if max_steps is not None else batch))
+            if self.state.ensure_room():  # open boundaries: room for the particles they may create
+                self._upload_parameters()
             self.state.keep_good(self.time, self.steps)
             start = _time.perf_counter()
             before = self.time
@@ -180,6 +186,7 @@ class Simulation:
                         writer.on_steps(self)
             self._read_status()
             done += n
+            self.state.check_room(self.time)  # open boundaries: did every particle they made fit?
             if self._fail_codes:
                 self._fail()
             if self.time == before:  # the step underflowed: a guard's diagnosis, with the fastest particles
@@ -269,13 +276,15 @@ class Simulation:
         steps = self.steps - steps0
         dt_min, dt_mean, dt_max = self.state.run_statistics(dt_sum0, steps)
         fluid_mass, removed_mass = self.state.fluid_and_removed_mass()
+        opened = self.open_boundary_mass() if self.solver.open else None
         return RunSummary(self.n, self.n_fluid, steps, self.time, wall,
                           frame_writer.frame - frames0 if frame_writer else 0,
                           str(frame_writer.folder) if frame_writer else None, dt_min, dt_mean, dt_max,
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
                           fluid_mass, removed_mass, self._solve_stats.summary() if self.solver.dfsph else None,
-                          self.state.read_flag(st.OUT_OF_RANGE_COUNT), frame_writer.removed if frame_writer else 0)
+                          self.state.read_flag(st.OUT_OF_RANGE_COUNT), frame_writer.removed if frame_writer else 0,
+                          opened, int(self.buffer.sum()) if self.solver.open else 0)
 
     @property
     def pressure_solve(self):
@@ -311,47 +320,6 @@ class Simulation:
         sim.checkpoint_meta = meta
         return sim
 
-    # --- state as numpy, in particle-id order ------------------------------------
-    def _arrays(self):
-        """All stored quantities as numpy, in particle-id order (cached per step)."""
-        key = (self.steps, self.time)
-        if self._snapshot_key != key:
-            self._snapshot = self.state.to_numpy()
-            self._snapshot_key = key
-        return self._snapshot
-
-    def quantity(self, name: str) -> np.ndarray:
-        """Any stored per-particle quantity by name, in particle-id order."""
-        kind = self.solver.layout.kind_of(name)
-        group = {"vector": 0, "scalar": 1, "integer": 2}[kind]
-        return self._arrays()[group][getattr(self.solver.layout.q, name)].copy()
-
-    def positions(self) -> np.ndarray:
-        """(N, dim) positions in particle-id order (the scene's); NaN for removed particles."""
-        return self.quantity("position")
-
-    def velocities(self) -> np.ndarray:
-        return self.quantity("velocity")
-
-    def density(self) -> np.ndarray:
-        return self.quantity("density")
-
-    def pressure(self) -> np.ndarray:
-        """Pressure from the equation of state at the current density."""
-        return self.quantity("pressure")
-
-    def masses(self) -> np.ndarray:
-        return self.quantity("mass")
-
-    def ids(self) -> np.ndarray:
-        return self.quantity("id")
-
-    def materials(self) -> np.ndarray:
-        return self.quantity("material")
-
-    def kinds(self) -> np.ndarray:
-        return self.quantity("kind")
-
     def neighbour_pairs(self) -> np.ndarray:
         """Ordered pairs of particle ids closer than the kernel support, as the
         neighbour sums visit them: an (M, 2) array (each pair appears as (i, j) and
@@ -359,15 +327,6 @@ class Simulation:
         range (Lennard-Jones walls), fluid-wall pairs beyond that range plus the skin
         are not visited and not listed. Leaves the simulation as it was."""
         return self.state.neighbour_pairs(self.serial_sort, self.time)
-
-    @property
-    def fluid(self) -> np.ndarray:
-        """Boolean mask of (active) fluid particles, in particle-id order."""
-        return self.kinds() == FLUID
-
-    @property
-    def wall(self) -> np.ndarray:
-        return self.kinds() == WALL
 
     @property
     def list_rebuilds(self) -> int:
@@ -384,15 +343,3 @@ class Simulation:
     def effects(self) -> list:
         """Names of the terms compiled into this simulation's kernels (DFSPH: those it keeps)."""
         return [t.name for t in self.solver.active_terms(self.scene)]
-
-    def total_mass(self) -> float:
-        return float(self.masses()[self.fluid].sum())
-
-    def momentum(self) -> np.ndarray:
-        m = self.masses()[self.fluid]
-        return (m[:, None] * self.velocities()[self.fluid]).sum(axis=0)
-
-    def kinetic_energy(self) -> float:
-        m = self.masses()[self.fluid]
-        v = self.velocities()[self.fluid]
-        return float(0.5 * (m * (v * v).sum(axis=1)).sum())

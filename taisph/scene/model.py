@@ -24,7 +24,7 @@ from ..eos import Tait
 from ..messages import InputError
 from ..terms.base import Term
 from .names import INTEGRATORS, KERNELS, SOLVERS
-from .solvers import check_dfsph, dfsph_kept_terms
+from .solvers import check_dfsph
 
 
 @dataclass
@@ -148,6 +148,12 @@ class Scene:
     material: np.ndarray = None
     # initial values of further stored quantities (e.g. "energy"), name -> (N,) or (N, dim)
     quantities: dict = field(default_factory=dict)
+    # open boundary zones (taisph.terms.open_boundary.OpenBoundary), made by add_open_boundary
+    open_boundaries: list = field(default_factory=list)
+    # named groups of wall particles (name -> particle indices; force probes), and probes a
+    # command-line run of the scene writes to OUT/probes.csv besides --probe's
+    wall_groups: dict = field(default_factory=dict)
+    probes: list = field(default_factory=list)
 
     def __post_init__(self):
         if self.dim not in (1, 2, 3):
@@ -200,6 +206,20 @@ class Scene:
 
     def add_walls(self, position, material=0, **kw):
         return self.add_particles(position, kind="wall", material=material, **kw)
+
+    def add_open_boundary(self, name: str, at, to, normal=None, velocity=None, pressure=None,
+                          profile: str = "uniform", period: float | None = None, layers: int | None = None,
+                          material: int = 0):
+        """An open boundary (inflow, outflow or both, :mod:`taisph.terms.open_boundary`) on the
+        face from `at` to `to` (2D: a segment; 3D: opposite corners of a rectangle in a
+        coordinate plane), `normal` into the fluid (default: found). `velocity`: None
+        (extrapolated), a speed along `normal`, a vector, an (M, 2) table of (t, speed) or
+        ``f(points, t)``, shaped across the face by `profile` ("uniform", "parabolic"),
+        repeating every `period` s; `pressure`: None (extrapolated) or Pa. Fills the buffer
+        (`layers` rows, default a support and one) and grows the domain to hold it."""
+        from .open_boundary import add
+
+        return add(self, name, at, to, normal, velocity, pressure, profile, period, layers, material)
 
     # --- derived ----------------------------------------------------------------
     @property
@@ -353,38 +373,15 @@ class Scene:
             names.add(t.name)
             t.check(self)
             t.param_values(self.dim)
+        if self.open_boundaries:
+            from .open_boundary import check
+
+            check(self)
         if self.solver == "dfsph":
             check_dfsph(self)
 
     def describe(self) -> str:
-        if self.solver == "dfsph":
-            # DFSPH's step integrates with symplectic Euler whatever the scene's integrator (the
-            # cases' default is pc, so refusing another would refuse them all): the header says so
-            numerics = (f"solver dfsph (incompressible: pressure solve, symplectic Euler; the scene's "
-                        f"integrator {self.integrator} is not used)")
-            kept = dfsph_kept_terms(self)
-            replaced = [t.name for t in self.terms if t not in kept]
-            effects = ", ".join(["DFSPH pressure" + (f" (in place of {', '.join(replaced)})" if replaced else "")]
-                                + [t.describe() for t in kept])
-        else:
-            numerics = f"solver wcsph, integrator {self.integrator}" + (
-                f", Courant number {self.courant:g}" if self.courant is not None else "")
-            effects = ", ".join(t.describe() for t in self.terms)
-        lines = [
-            f"{self.name}: {self.description}".rstrip(": "),
-            f"  {self.dim}D, {self.n_fluid} fluid + {self.n_wall} wall particles, dx = {self.dx:g} m, "
-            f"h {'<=' if 'adaptive_h' in self.terms_by_name else '='} {self.smoothing_length:g} m "
-            f"({self.kernel} kernel), {numerics}",
-            "  effects: " + effects,
-        ]
-        if any(self.periodic):
-            lines.append("  periodic along " + ", ".join("xyz"[k] for k, p in enumerate(self.periodic) if p))
-        if self.open_faces:
-            lines.append(f"  open at {', '.join(self.open_faces)}: particles may leave and come back there")
-        if self.remove_escaped:
-            lines.append("  particles that leave the domain" + (" elsewhere" if self.open_faces else "")
-                         + " are removed and counted, as are particles whose density leaves the guard's range "
-                         "(up to max_out_of_range)")
-        if self.neighbour_skin > 0:
-            lines.append(f"  neighbour lists with a skin of {self.neighbour_skin:g} support radii")
-        return "\n".join(lines)
+        """The scene in a few lines: particles, numerics, effects and boundaries (the header of a run)."""
+        from .description import describe
+
+        return describe(self)

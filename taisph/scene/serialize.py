@@ -44,7 +44,9 @@ EOS = {cls.__name__: cls for cls in (Tait, IdealGas)}
 MATERIALS = {cls.__name__: cls for cls in (Material, Gas)}
 ARRAYS = ("position", "velocity", "mass", "density", "kind", "material")
 QUANTITY = "quantity."  # prefix of the further quantities' arrays
-SPECIAL = set(ARRAYS) | {"quantities", "materials", "terms", "eos", "domain"}  # Scene fields not plain
+WALL_GROUP = "wall_group."  # prefix of the wall groups' particle indices
+SPECIAL = set(ARRAYS) | {"quantities", "materials", "terms", "eos", "domain", "open_boundaries", "wall_groups",
+                         "probes"}  # Scene fields not plain
 
 
 class SceneDataError(InputError):
@@ -165,6 +167,31 @@ def material_from_data(data: dict):
         raise SceneDataError(f"material {data.get('name')!r}: {err}") from None
 
 
+def zone_to_data(zone, dim: int) -> dict:
+    """An open boundary zone (:class:`taisph.terms.open_boundary.OpenBoundary`) as plain
+    data; a velocity function is stored as its table (what the run uses)."""
+    data = {f.name: getattr(zone, f.name) for f in dataclasses.fields(zone)}
+    if callable(zone.velocity):
+        table, step = zone.table(dim)
+        data["velocity"] = {"tabulated": table, "step": step}
+    return plain(data, f"open boundary {zone.name!r}")
+
+
+def zone_from_data(data: dict):
+    from .open_boundary import OpenBoundary
+
+    data = unplain(data, tuples=True)
+    velocity = data.get("velocity")
+    if isinstance(velocity, dict):
+        data["velocity"] = {"tabulated": np.asarray(velocity["tabulated"], float), "step": velocity["step"]}
+    elif isinstance(velocity, tuple) and velocity and isinstance(velocity[0], tuple):
+        data["velocity"] = np.asarray(velocity, float)  # a (t, u) table
+    try:
+        return OpenBoundary(**data)
+    except TypeError as err:
+        raise SceneDataError(f"open boundary {data.get('name')!r}: {err}") from None
+
+
 # --- the scene ----------------------------------------------------------------------
 def scene_to_data(scene: Scene) -> tuple[dict, dict]:
     """``(data, arrays)``: the scene's settings, materials, equation of state and terms
@@ -176,7 +203,12 @@ def scene_to_data(scene: Scene) -> tuple[dict, dict]:
     data["eos"] = eos_to_data(scene.eos)
     data["terms"] = [term_to_data(t) for t in scene.terms]
     data["quantities"] = list(scene.quantities)
+    # open boundaries: the zones (a function of x and t as its table); their term is rebuilt from them
+    data["open_boundaries"] = [zone_to_data(z, scene.dim) for z in scene.open_boundaries]
+    data["wall_groups"] = sorted(scene.wall_groups)
+    data["probes"] = [plain(dataclasses.asdict(p), f"probe {p.name!r}") for p in scene.probes]
     arrays = {name: np.asarray(getattr(scene, name)) for name in ARRAYS}
+    arrays.update({WALL_GROUP + name: np.asarray(ids) for name, ids in scene.wall_groups.items()})
     arrays.update({QUANTITY + name: np.asarray(v) for name, v in scene.quantities.items()})
     return data, arrays
 
@@ -191,11 +223,26 @@ def scene_from_data(data: dict, arrays) -> Scene:
     if missing:
         raise SceneDataError(f"scene data without {', '.join(missing)}")
     quantities = {name: np.asarray(arrays[QUANTITY + name]) for name in data.pop("quantities", [])}
+    zones = [zone_from_data(z) for z in data.pop("open_boundaries", [])]
+    terms = []
+    for t in data.pop("terms"):
+        if t.get("class") == "OpenBoundaries":
+            from ..terms.open_boundary import OpenBoundaries
+
+            term = OpenBoundaries(zones, int(data["dim"]), float(data["dx"])).refresh()
+            term.values.update(unplain(t.get("params", {}), tuples=True))  # values set since (Scene.set)
+            terms.append(term)
+        else:
+            terms.append(term_from_data(t))
+    from ..probes.spec import Probe
+
     special = dict(
         domain=tuple(np.asarray(a, float) for a in unplain(data.pop("domain"))),
         materials=[material_from_data(m) for m in data.pop("materials")],
         eos=eos_from_data(data.pop("eos")),
-        terms=[term_from_data(t) for t in data.pop("terms")],
+        terms=terms, open_boundaries=zones,
+        wall_groups={name: np.asarray(arrays[WALL_GROUP + name]) for name in data.pop("wall_groups", [])},
+        probes=[Probe(**unplain(p, tuples=True)) for p in data.pop("probes", [])],
     )
     known = {f.name for f in dataclasses.fields(Scene)}
     unknown = set(data) - known

@@ -18,6 +18,7 @@ from .summation_density import SummationDensity
 from .pressure_hu_adams import PressureHuAdams
 from .riemann import Riemann
 from .xsph import XSPH
+from .open_boundary import OpenBoundaries  # made by Scene.add_open_boundary, not listed by hand
 
 __all__ = [
     "Term",
@@ -39,4 +40,5 @@ __all__ = [
     "DensityDiffusion",
     "ParticleShifting",
     "Riemann",
+    "OpenBoundaries",
 ]

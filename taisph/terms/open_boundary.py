@@ -1,0 +1,373 @@
+"""Open boundaries: inflow and outflow zones through which fluid enters and leaves.
+
+An open boundary is a *face* of the fluid region (a segment in 2D, a rectangle in a
+coordinate plane in 3D) with a *buffer zone* behind it: `layers` rows of particles,
+``dx`` apart, outside the face, at least a kernel support deep, so that the fluid
+next to the face has full support. Buffer particles are fluid particles (every term
+sums over them like any fluid neighbour) whose velocity and density are imposed, not
+integrated (after Tafuni et al. 2018, CMAME 342:604, and the bidirectional buffers of
+SPHinXsys; Zhang et al. 2021):
+
+- *velocity*: prescribed, u(x, t) from the zone's table (a constant, a profile, a
+  table of (t, u), or a Python function of position and time, tabulated), or
+  extrapolated from the fluid: the normal part of the Shepard mean of the fluid's
+  velocity around the point x_r = x + (h - (x - a) . n) n, a smoothing length inside
+  the face on the particle's line normal to it (a, n: a point of the face and its
+  inward normal). One value per line, normal only: every line of the buffer moves as
+  one, along the normal, so the buffer keeps its lattice and never drifts into a wall;
+- *pressure*: prescribed p (Pa), or extrapolated the same way (the fluid's pressure
+  at x_r: zero normal gradient across the buffer); the density follows by the inverse
+  equation of state, rho = rho0 (1 + p / B)^(1/gamma) (Tait).
+
+Every step, after the force pass, each zone's particles are re-classified
+(:func:`OpenBoundaries.after_force`, serial, so that created particles get the same
+ids in every run):
+
+- a buffer particle that crossed the face into the fluid becomes fluid, and a new
+  buffer particle is placed ``depth`` behind it (the zone stays filled, on the lattice);
+- a fluid particle that crossed the face out of the fluid becomes a buffer particle;
+- a buffer particle beyond the zone's far side (or beside it) is retired: its slot is
+  reused (the particle arrays are compacted in the same loop).
+
+So every zone works in both directions (bidirectional): a pressure outlet where a
+vortex brings fluid back feeds that fluid in, and an inlet whose flow reverses
+swallows it. The mass that crosses each way is summed on the device (``MASS_IN``,
+``MASS_OUT`` of :mod:`taisph.engine.status`): fluid mass = initial + in - out exactly.
+
+The particle count changes during a run: the fields have spare room, which the host
+grows ahead of need (:meth:`taisph.engine.state.State.ensure_room`).
+"""
+
+
+import collections
+
+import numpy as np
+import taichi as ti
+
+from ..engine import status as st
+from ..engine.layout import FLUID
+from ..messages import InputError
+from .base import Term
+from .open_boundary_values import Fit, fitted, table_velocity
+
+ZONE_ROW = "open_zone"  # integer row: 0 in the fluid, k + 1 in zone k's buffer
+TABLE_CAPACITY = 1 << 18  # reals of every zone's velocity table together
+FACE_SAMPLES = {2: 65, 3: 17}  # samples of a profile or function along each face axis
+TIME_SAMPLES = 513  # samples of a time table or function over its span
+PRESCRIBED, EXTRAPOLATED = "prescribed", "extrapolated"
+PROFILES = ("uniform", "parabolic")
+
+
+_ZoneRows = collections.namedtuple("ZoneRows", "origin normal axis1 axis2 length1 length2 depth spacing pressure period "
+                                                "table_dt table_shape table_offset")
+
+
+def _param_names(zone, dim: int) -> dict:
+    """The zone's runtime parameters and their kinds ("vector" or a number)."""
+    p = zone.name + "_"
+    names = {p + "origin": "vector", p + "normal": "vector", p + "axis1": "vector", p + "axis2": "vector",
+             p + "length1": 1.0, p + "length2": 1.0, p + "depth": 1.0, p + "spacing": 1.0, p + "pressure": 0.0, p + "period": 0.0,
+             p + "table_dt": 0.0, p + "table_shape": "vector3", p + "table_offset": 0.0}
+    return names
+
+
+@ti.data_oriented
+class OpenBoundaries(Term):
+    """The open boundary zones of a scene (:class:`OpenBoundary`, see the module
+    docstring). Made and kept up to date by :meth:`taisph.Scene.add_open_boundary`;
+    compiled only into scenes that have zones. Runtime parameters, by zone name:
+    ``<name>_pressure`` (a prescribed pressure, Pa) and the zone's geometry."""
+
+    name = "open_boundaries"
+    integers = (ZONE_ROW,)
+    wall_range = None
+    outputs = (ZONE_ROW,)
+
+    def __init__(self, zones: list, dim: int, dx: float):
+        self.zones, self.dim, self.dx = zones, dim, dx
+        self.params = {}
+        for z in zones:
+            self.params.update({k: ("vector" if v in ("vector", "vector3") else v) for k, v in _param_names(z, dim).items()})
+        super().__init__()
+        self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in zones)}
+        self._tables = None
+
+    # --- host side ----------------------------------------------------------------
+    def refresh(self):
+        """Recompute the parameter values from the zones (after a zone was added or changed)."""
+        self.params = {}
+        for z in self.zones:
+            self.params.update({k: ("vector" if v in ("vector", "vector3") else v) for k, v in _param_names(z, self.dim).items()})
+        self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in self.zones)}
+        self.values = {}
+        offset = 0
+        self._tables = []
+        for z in self.zones:
+            origin, axes, lengths = z.frame(self.dim)
+            axes = axes + [np.zeros(self.dim)] * (2 - len(axes))
+            lengths = lengths + [1.0] * (2 - len(lengths))
+            p = z.name + "_"
+            values = {p + "origin": origin, p + "normal": np.asarray(z.normal, float), p + "axis1": axes[0],
+                      p + "axis2": axes[1], p + "length1": lengths[0], p + "length2": lengths[1],
+                      p + "depth": z.layers * self.dx, p + "spacing": self.dx, p + "period": z.period or 0.0,
+                      p + "pressure": z.pressure if z.pressure is not None else 0.0}
+            table, table_dt = (z.table(self.dim) if z.velocity is not None
+                               else (np.zeros((1, 1, 1, self.dim)), 0.0))
+            values.update({p + "table_dt": table_dt, p + "table_offset": float(offset),
+                           p + "table_shape": np.array(table.shape[:3], float)[: self.dim]
+                           if self.dim == 3 else np.array(table.shape[:2], float)})
+            self._tables.append(table.ravel())
+            offset += table.size
+            self.values.update(values)
+        if offset > TABLE_CAPACITY:
+            raise InputError(f"open boundaries: the velocity tables need {offset} numbers, more than the "
+                             f"{TABLE_CAPACITY} they have room for; give shorter tables")
+        return self
+
+    def describe(self) -> str:
+        return f"open_boundaries({', '.join(z.name for z in self.zones)})"
+
+    def table_values(self) -> np.ndarray:
+        """Every zone's velocity table, one after the other (offsets in the parameters)."""
+        if self._tables is None:
+            self.refresh()
+        return np.concatenate(self._tables) if self._tables else np.zeros(1)
+
+    def param_values(self, dim: int) -> dict:
+        if self._tables is None:
+            self.refresh()
+        out = {}
+        for k, v in self.values.items():
+            arr = np.atleast_1d(np.asarray(v, float))
+            if not np.all(np.isfinite(arr)):
+                raise InputError(f"open boundaries: {k} must be finite, got {v!r}")
+            out[k] = arr
+        return out
+
+    def check(self, scene):
+        """The solver's and the other terms' fit; the zones themselves are checked by
+        :func:`taisph.scene.open_boundary.check` (from :meth:`taisph.Scene.validate`)."""
+        if scene.solver == "dfsph":
+            raise InputError("open boundaries work with the WCSPH solver only (solver = \"wcsph\"): DFSPH's "
+                             "pressure solve has no prescribed-pressure particles yet (docs/open_boundaries.md)")
+        if scene.neighbour_skin > 0:
+            raise InputError("open boundaries change the particles every step: use them without neighbour "
+                             "lists (neighbour_skin = 0)")
+        if "adaptive_h" in scene.terms_by_name or "summation_density" in scene.terms_by_name:
+            raise InputError("open boundaries need a constant smoothing length and the continuity equation "
+                             "(not adaptive_h or summation_density): their buffer's density is imposed")
+        if type(scene.eos).__name__ != "Tait":
+            raise InputError("open boundaries need the Tait equation of state (their density comes from the "
+                             "prescribed or extrapolated pressure by its inverse)")
+
+    def reserve(self, scene) -> int:
+        """Free particle slots to keep ahead of a batch of steps (up to 128): every
+        buffer particle once, and each face's row more than 32 times (a row crosses a
+        face at most every few steps: |u| dt is a small part of dx)."""
+        total = 0
+        for z in self.zones:
+            _, _, lengths = z.frame(self.dim)
+            row = int(np.prod([round(length / self.dx) for length in lengths]))
+            total += row * (z.layers + 32)
+        return total
+
+    # --- compile time ---------------------------------------------------------------
+    def bound(self, layout, param_rows, material_cols, eos, rate_rows, kernel=None):
+        t = super().bound(layout, param_rows, material_cols, eos, rate_rows, kernel)
+        t.rows = [_ZoneRows(**{k[len(z.name) + 1:]: param_rows[k] for k in _param_names(z, self.dim)})
+                  for z in self.zones]
+        t.modes = self.options["zones"]
+        t.p_support2 = param_rows["support2"]
+        t.prev_v = tuple(k for k, name in enumerate(layout.vectors) if name.endswith("_prev"))
+        t.prev_s = tuple(k for k, name in enumerate(layout.scalars) if name.endswith("_prev"))
+        return t
+
+    @ti.func
+    def _distance(self, s: ti.template(), z: ti.template(), x):
+        """(signed distance of x from zone z's face, positive into the fluid; is x
+        beside the face's extent (outside it along a face axis)?)"""
+        r = ti.static(self.rows[z])
+        dim = ti.static(self.dim)
+        origin = ti.Vector([s.params[r.origin + d] for d in ti.static(range(dim))])
+        normal = ti.Vector([s.params[r.normal + d] for d in ti.static(range(dim))])
+        rel = x - origin
+        beside = False
+        for k in ti.static(range(dim - 1)):
+            axis = ti.Vector([s.params[(r.axis1, r.axis2)[k] + d] for d in ti.static(range(dim))])
+            along = rel.dot(axis)
+            if along < 0.0 or along > s.params[(r.length1, r.length2)[k]]:
+                beside = True
+        return rel.dot(normal), beside
+
+    def after_sort(self, solver):
+        """The step's first neighbour sum: every buffer particle's velocity and density
+        (prescribed, or extrapolated from the fluid around its mirror image), in ``S``,
+        before the wall pass and the rates read them."""
+        from ..engine.kernels import TRACED, derive_all
+
+        q, grid, kern = self.q, solver.grid, solver.kernel
+        p_inv_h, p_w_norm = solver.param_rows["inv_h"], solver.param_rows["w_norm"]
+        p_h = solver.param_rows["smoothing_length"]
+        derive, m = derive_all(solver), self.m
+        visitor = Fit(q, kern, p_inv_h, p_w_norm, self.dim)
+        n_zones = len(self.zones)
+        modes = self.modes
+        dim = self.dim
+
+        @ti.func
+        def body(s: ti.template(), t_target):
+            ti.static(TRACED.add((self.name, "buffer pass")))
+            t = s.status[st.TIME]
+            n = s.sizes[st.N_PARTICLES]
+            if s.status[st.IDLE] > 0.0:
+                n = 0
+            for i in range(n):
+                zone = s.Si[q.open_zone, i]
+                if s.Si[q.kind, i] == FLUID and zone > 0:
+                    x = s.Sv[q.position, i]
+                    for z in ti.static(range(n_zones)):
+                        if zone == z + 1:
+                            distance, _ = self._distance(s, z, x)
+                            normal = ti.Vector([s.params[self.rows[z].normal + d] for d in ti.static(range(dim))])
+                            # one point for the whole line of buffer particles normal to the face: a
+                            # smoothing length inside it (each row of the buffer then moves as one)
+                            mirror = x + (s.params[p_h] - distance) * normal
+                            acc = ti.Vector.zero(s.Sv.dtype, 2 * (dim + 1) ** 2)  # moments (_Mirror)
+                            grid.for_each_neighbour(s, i, mirror, s.params[self.p_support2], visitor, acc)
+                            v = s.Sv[q.velocity, i]
+                            p = s.Ss[q.pressure, i]
+                            p_fluid, v_fluid = p, v
+                            if acc[0] > 0.0:
+                                p_fluid, v_fluid = fitted(acc, dim)
+                                if ti.static(modes[z][0] == EXTRAPOLATED):
+                                    # its normal part only: each line of the buffer then moves along the
+                                    # normal, keeping the lattice (a sideways drift emptied the buffer by
+                                    # the walls, where the fluid tore open at H/dx = 40)
+                                    speed = v_fluid.dot(normal)
+                                    if ti.static(modes[z][1] == PRESCRIBED):
+                                        # the characteristic leaving the fluid through the face carries
+                                        # u_n - p / (rho0 c0): with p prescribed, the buffer's speed lets
+                                        # the fluid push out (or draw in) what its pressure says. Without
+                                        # it, a buffer at the fluid's own speed held the outflow back, and
+                                        # the channel's flow was 6 % short at H/20
+                                        material = s.Si[q.material, i]
+                                        speed += (s.params[self.rows[z].pressure] - p_fluid) / (
+                                            s.mat[material, m.rho0] * s.mat[material, m.c0])
+                                    v = speed * normal
+                                if ti.static(modes[z][1] == EXTRAPOLATED):
+                                    p = p_fluid
+                            if ti.static(modes[z][0] == PRESCRIBED):
+                                v = table_velocity(s, self.rows[z], dim, x, t)
+                                if ti.static(modes[z][1] == EXTRAPOLATED):
+                                    # the same characteristic, read for the pressure: a buffer that moves
+                                    # away from the fluid faster than the fluid follows draws it by a
+                                    # lower pressure (without it an inlet whose flow reversed left the
+                                    # fluid behind and ran empty)
+                                    material = s.Si[q.material, i]
+                                    p = p_fluid + s.mat[material, m.rho0] * s.mat[material, m.c0] * (
+                                        v - v_fluid).dot(normal)
+                            if ti.static(modes[z][1] == PRESCRIBED):
+                                # the prescribed value at the face, and the fluid's gradient across it: p
+                                # linear through (face, p0) and (x_r, fluid's p), so that the face is
+                                # where the pressure is p0 (a constant buffer moved that point about a
+                                # support outside, and the channel's pressure drop fell 5 % at H/40)
+                                p0 = s.params[self.rows[z].pressure]
+                                p = p0
+                                if acc[0] > 0.0:
+                                    p = p0 + (p0 - p_fluid) * (-distance) / s.params[p_h]
+                            material = s.Si[q.material, i]
+                            base = ti.max(1.0 + p / s.mat[material, m.B], 0.05)
+                            s.Ss[q.density, i] = s.mat[material, m.rho0] * ti.pow(base, 1.0 / s.mat[material, m.gamma])
+                            s.Sv[q.velocity, i] = v
+                            derive(s, i)  # pressure (and P/rho^2...) from the new density
+
+        return body
+
+    def after_force(self, solver):
+        """The zones' bookkeeping after the particles moved (serial; see the module
+        docstring): fluid <-> buffer across each face, new buffer particles behind
+        those that entered, retired ones dropped and the arrays compacted."""
+        from ..engine.kernels import TRACED, copy_rows
+
+        q, grid = self.q, solver.grid
+        copy = copy_rows(solver)
+        counter = _Count(q)
+        n_zones, dim = len(self.zones), self.dim
+        prev_v, prev_s = self.prev_v, self.prev_s
+
+        @ti.func
+        def body(s: ti.template(), t_target):
+            ti.static(TRACED.add((self.name, "zone bookkeeping")))
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                if s.status[st.IDLE] == 0.0:
+                    n = s.sizes[st.N_PARTICLES]
+                    capacity = s.Cv.shape[1]
+                    kept, made = 0, 0
+                    for i in range(n):
+                        keep = True
+                        if s.Ci[q.kind, i] == FLUID:
+                            x = grid.wrap(s, s.Cv[q.position, i])  # (along a periodic face axis)
+                            zone = s.Ci[q.open_zone, i]
+                            for z in ti.static(range(n_zones)):
+                                distance, beside = self._distance(s, z, x)
+                                depth = s.params[self.rows[z].depth]
+                                if zone == 0 and distance < 0.0 and distance > -depth and not beside:
+                                    zone = z + 1  # left the fluid: a buffer particle of this zone
+                                    s.Ci[q.open_zone, i] = zone
+                                    s.status[st.MASS_OUT] += s.Cs[q.mass, i]
+                                    for k in ti.static(prev_v):  # imposed, not integrated: no rates of its own
+                                        s.Cv[k, i] = ti.Vector.zero(s.Cv.dtype, dim)
+                                    for k in ti.static(prev_s):
+                                        s.Cs[k, i] = 0.0
+                                elif zone == z + 1:
+                                    if distance >= 0.0 and not beside:  # entered the fluid
+                                        s.Ci[q.open_zone, i] = 0
+                                        s.status[st.MASS_IN] += s.Cs[q.mass, i]
+                                        slot = n + made
+                                        normal = ti.Vector([s.params[self.rows[z].normal + d]
+                                                            for d in ti.static(range(dim))])
+                                        behind = x - depth * normal
+                                        # its successor, depth behind it, unless a particle is already
+                                        # within half a spacing there (a buffer refilled by fluid that
+                                        # flowed out is not a lattice: spawning blind there crowded it and
+                                        # added 2 % of mass in two periods of a reversing flow)
+                                        spacing = s.params[self.rows[z].spacing]
+                                        crowd = 0
+                                        grid.for_each_neighbour(s, -1, behind, 0.25 * spacing * spacing, counter,
+                                                                crowd)
+                                        if crowd > 0:
+                                            pass
+                                        elif slot < capacity:
+                                            copy(s.C, i, s.C, slot)
+                                            s.Cv[q.position, slot] = behind
+                                            s.Ci[q.open_zone, slot] = zone
+                                            s.Ci[q.id, slot] = s.flags[st.NEXT_ID]
+                                            s.flags[st.NEXT_ID] += 1
+                                            made += 1
+                                        else:
+                                            s.flags[st.NO_ROOM] += 1
+                                    elif distance <= -depth or beside:  # past the far side: retired
+                                        keep = False
+                        if keep:
+                            if kept != i:
+                                copy(s.C, i, s.C, kept)
+                            kept += 1
+                    for k in range(made):  # the new ones, after the kept ones
+                        if kept != n:
+                            copy(s.C, n + k, s.C, kept + k)
+                    s.sizes[st.N_PARTICLES] = kept + made
+
+        return body
+
+
+@ti.data_oriented
+class _Count:
+    """Neighbour visitor: how many particles (of any kind) lie within the radius asked for."""
+
+    def __init__(self, q):
+        self.q = q
+
+    @ti.func
+    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
+        acc += 1
