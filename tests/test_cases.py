@@ -16,6 +16,7 @@ FREE = "free"  # no external force: total momentum stays zero (pairwise forces)
 BEHAVIOUR = {
     "dam_break": FALLS, "dam_break_3d": FALLS, "dam_break_wedge": FALLS, "drop_on_incline": FALLS,
     "two_fluids": FALLS, "hydrostatic_tank": STILL, "poiseuille": DRIVEN, "couette": DRIVEN,
+    "channel": DRIVEN, "cylinder": DRIVEN,
     "elliptical_drop": FREE, "sedov": FREE, "sod": FREE, "taylor_green": FREE,
 }
 VARIANTS = [(name, {}) for name in taisph.cases.CASES] + [("drop_on_incline", {"dim": 3})]

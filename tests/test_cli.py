@@ -61,7 +61,7 @@ def test_case_command_refuses_out_of_range(tmp_path, capsys, argv, message):
     (["run", "p.dat", "1", "0.001", "pc", "spline", "--lj-cutoff", "0"], "argument --lj-cutoff: must be > 0, got 0"),
     (["export", "dam_break", "--dat", "DAT", "--dx", "0"], "argument --dx: must be > 0, got 0"),
     (["export", "dam_break", "--dat", "DAT", "--set", "g=-9.81"], "dam_break: g must be in (0, 1000], got -9.81"),
-    (["export", "no_such_case", "--dat", "DAT"], "unknown case 'no_such_case'; cases: couette, dam_break"),
+    (["export", "no_such_case", "--dat", "DAT"], "unknown case 'no_such_case'; cases: channel, couette, cylinder, dam_break"),
 ])
 def test_seed_commands_refuse_out_of_range(tmp_path, capsys, argv, message):
     argv = [str(tmp_path / a) if a in ("p.dat", "DAT") else a for a in argv]

@@ -233,7 +233,7 @@ def test_cli_sweeps_a_scene_file(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["nocase", "--vary", "dx=0.1"], "unknown case 'nocase'; cases: couette, dam_break"),
+    (["nocase", "--vary", "dx=0.1"], "unknown case 'nocase'; cases: channel, couette, cylinder, dam_break"),
     ([CASE, "--vary", "dxx=0.1"], "hydrostatic_tank has no parameter 'dxx'; allowed are case parameters: dx,"),
     ([CASE, "--vary", "dx=0.1,abc"], "dx: cannot read 'abc'"),
     ([CASE, "--vary", "precision=f16"], "precision: cannot read 'f16'"),
