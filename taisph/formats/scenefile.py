@@ -8,8 +8,11 @@ block), h = h_factor dx, continuity + pressure gradient + Monaghan viscosity + g
 dummy walls (Adami et al. 2012: layers of particles dx apart, ceil(support / dx) deep)
 or Lennard-Jones walls (particles dx/2 apart, r0 = dx/2, D = 5 max(|g| H, |v|max^2/2)
 / r0), density diffusion (delta-SPH) and XSPH on request, fluid blocks starting in
-hydrostatic equilibrium. Fluids of different reference densities use the sharp-interface
-terms of ``cases/two_fluids.py``.
+hydrostatic equilibrium (at ``pressure`` at their top: particles dx^dim of fluid at their
+pressure), Morris laminar viscosity on request (``physics.nu``, with the dummy walls'
+no-slip velocity). Fluids of different reference densities use the sharp-interface
+terms of ``cases/two_fluids.py``. Open boundaries (``[[open_boundaries]]``,
+:mod:`.scenefile_open`) are added after the fluid and the walls, as ``cases/channel.py`` does.
 
 Walls are tanks or obstacles (``kind``). A tank (a box) holds the fluid: its wall layers
 lie outside the box, and an open top is an open face of the domain (water may fly up
@@ -27,12 +30,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..eos import tait
 from ..geometry.shapes import box_walls, lattice, solid_layers, wall_layers
 from ..geometry.fill import surface_points, volume_points
 from ..scene import catalogue, water
 from ..scene.model import Material, Scene
 from ..scene.names import UP
 from ..scene.parameters import checked
+from . import scenefile_open
 from .scenefile_spec import Probe  # noqa: F401  (what [[probes]] become, for users of this module)
 from .scenefile_spec import RANGES, SceneFileError, SceneSpec, default_domain, read, wall_layers_needed
 
@@ -88,10 +93,14 @@ def build(spec: SceneSpec):
                   description=spec.description or f"scene file {spec.path.name}")
     for block, points in zip(spec.fluid, fluid):
         material = materials[block.material]
-        density = None
-        if block.hydrostatic and g_norm > 0:  # at its depth below the block's top
-            density = water.hydrostatic_density(material, g_norm, points @ down - np.min(points @ down) + 0.5 * dx)
-        scene.add_fluid(points, material=block.material, velocity=block.velocity, density=density)
+        density = mass = None
+        head = block.hydrostatic and g_norm > 0  # the pressure at its depth below the block's top
+        if head or block.pressure:  # (water.hydrostatic_density with the pressure at the top added)
+            depth = points @ down - np.min(points @ down) + 0.5 * dx if head else 0.0
+            density = tait.density(block.pressure + material.rho0 * g_norm * depth, material.rho0, material.c0,
+                                   material.gamma)
+            mass = density * dx**dim if block.pressure else None  # as a buffer's particles at its pressure
+        scene.add_fluid(points, material=block.material, velocity=block.velocity, density=density, mass=mass)
     groups, notes = {}, []
     for block in spec.walls:
         points = _wall_points(spec, block)
@@ -101,6 +110,8 @@ def build(spec: SceneSpec):
                                  "smaller")
         groups[block.name] = scene.add_walls(points)
         notes.append(_wall_note(spec, block, groups[block.name], removed.get(block.name, 0)))
+    for zone in spec.open_boundaries or ():  # after the fluid (its face must border it) and the walls
+        scenefile_open.add(spec, scene, zone, SceneFileError)
     _check_grid(spec, scene)
     _validate(spec, scene)
     settings = RunSettings(spec.t_end, spec.frames, spec.solver, spec.courant, list(spec.probes), groups, spec.path,
@@ -133,7 +144,8 @@ def _check_grid(spec, scene):
 # the keys that choose a term of a built scene (its refusal names that key)
 _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].model", "gravity": "physics.gravity",
               "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
-              "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation"}
+              "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation",
+              "laminar_viscosity": "physics.nu", "open_boundaries": "open_boundaries"}
 
 
 def _validate(spec, scene):
@@ -154,9 +166,11 @@ def _validate(spec, scene):
                 break
             except Exception:  # noqa: BLE001 - the scene's own refusal is the one to report
                 break
+        key = "open_boundaries" if "open boundary '" in str(err) else key
         values = {"walls[0].model": spec.wall_model, "physics.gravity": list(spec.gravity), "physics.alpha": spec.alpha,
                   "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
-                  "physics.formulation": spec.formulation,
+                  "physics.formulation": spec.formulation, "physics.nu": spec.nu,
+                  "open_boundaries": [z.name for z in spec.open_boundaries or ()],
                   "materials": [m["name"] for m in spec.materials]}
         raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
 
@@ -177,7 +191,7 @@ def _terms(spec, g, height, speed):
     """The scene's terms; gravity `g`, the fluid's `height` and its fastest initial
     `speed` scale the Lennard-Jones force."""
     from ..terms import (XSPH, AdamiWall, ArtificialViscosity, Continuity, ContinuityColagrossi, DensityDiffusion,
-                         Gravity, LennardJonesWall, PressureGradient, PressureHuAdams, Riemann)
+                         Gravity, LaminarViscosity, LennardJonesWall, PressureGradient, PressureHuAdams, Riemann)
 
     dummy = spec.wall_model == "dummy"
     if spec.formulation == "riemann" and spec.multiphase:
@@ -192,6 +206,8 @@ def _terms(spec, g, height, speed):
         terms = [Continuity(walls=dummy), PressureGradient(walls=dummy)]
     if spec.alpha > 0:
         terms.append(ArtificialViscosity(alpha=spec.alpha))
+    if spec.nu > 0:  # Morris et al. (1997); with dummy walls their no-slip velocity (cases/channel.py, poiseuille.py)
+        terms.append(LaminarViscosity(nu=spec.nu, walls=dummy))
     if any(spec.gravity):
         terms.append(Gravity(gravity=spec.gravity))
     if dummy:
@@ -201,7 +217,7 @@ def _terms(spec, g, height, speed):
         strength = water.lennard_jones_strength(g, height, r0, speed)
         terms.append(LennardJonesWall(lj_strength=strength, lj_cutoff=r0))
     if spec.delta > 0:
-        terms.append(DensityDiffusion(delta=spec.delta))
+        terms.append(DensityDiffusion(delta=spec.delta, hydrostatic=any(spec.gravity)))  # (the same without gravity)
     if spec.xsph > 0:
         terms.append(XSPH(xsph_eps=spec.xsph))
     return terms

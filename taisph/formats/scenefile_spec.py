@@ -24,12 +24,12 @@ from ..geometry.mesh import MeshError, load_surface
 from ..messages import InputError
 from ..probes.spec import FACES, KINDS, Probe, face_problem, outside  # noqa: F401  (Probe: what [[probes]] become)
 from ..scene.names import UP, default_formulation
-from ..scene.parameters import (BYTES_PER_PARTICLE, Range, courant_number, diffusion_delta, end_time, finite,
+from ..scene.parameters import (BYTES_PER_PARTICLE, Range, between, courant_number, diffusion_delta, end_time, finite,
                                 gravity_component, integer, known_formulation, known_integrator, known_kernel, known_solver,
                                 memory_shortage, one_of, output_frames, positive, reference_density, smoothing_factor,
                                 speed_of_sound, tait_exponent, velocity_component, viscosity_alpha, xsph_epsilon)
+from .scenefile_open import MISSING as _MISSING, zones as open_boundaries  # [[open_boundaries]]
 
-_MISSING = object()  # a key the file does not have
 WALL_KINDS = ("tank", "obstacle")  # a tank holds fluid (wall layers outside its box); an obstacle is solid
 
 # The allowed values of each key, declared once in taisph.scene.parameters (the cases' and the command
@@ -41,17 +41,18 @@ RANGES = {
     "physics.delta": diffusion_delta, "physics.xsph": xsph_epsilon, "rho0": reference_density, "c0": speed_of_sound,
     "gamma": tait_exponent, "velocity": velocity_component, "scale": positive, "model": one_of("dummy", "lj"),
     "kind": one_of(*KINDS), "every": integer(at_least=1), "walls.kind": one_of(*WALL_KINDS),
-    "physics.formulation": known_formulation}
+    "physics.formulation": known_formulation, "physics.nu": between(0, 100), "pressure": between(0, 1e9)}
 # The values of the keys a file may leave out (gravity: (0, -9.81) or (0, -9.81, 0))
-DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1,
-            "physics.delta": 0.1, "physics.xsph": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
+DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1, "physics.delta": 0.1,
+            "physics.xsph": 0.0, "physics.nu": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
 
-TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor",
-            "dt", "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", *timestep.SETTABLE}
-PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation"}
+TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor", "dt",
+            "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", "open_boundaries",
+            *timestep.SETTABLE}
+PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation", "nu"}
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
-FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic"}
+FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic", "pressure"}
 WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "kind", "open_top"}
 PROBE_KEYS = {"name", "kind", "at", "to", "walls", "every"}
 
@@ -72,6 +73,7 @@ class Block:
     material: int = 0
     velocity: tuple | None = None
     hydrostatic: bool = True
+    pressure: float = 0.0  # a fluid's initial pressure (Pa) at its top
     name: str = ""
     model: str = "dummy"
     kind: str = "tank"  # walls: "tank" or "obstacle" (WALL_KINDS)
@@ -105,6 +107,7 @@ class SceneSpec:
     alpha: float
     delta: float
     xsph: float
+    nu: float  # the laminar viscosity's kinematic viscosity (m^2/s; 0: none)
     materials: list  # of dicts: name, rho0, c0 (None: default), gamma
     fluid: list
     walls: list
@@ -114,6 +117,7 @@ class SceneSpec:
     wall_model: str | None = None  # the one model of all wall groups (None: no walls)
     multiphase: bool = False  # fluids of different rho0: the sharp-interface terms
     formulation: str = "symmetric"  # names.FORMULATIONS: "symmetric" or "riemann" (alpha and delta then default to 0)
+    open_boundaries: list | None = None  # of scenefile_open.Zone
 
 
 def read(path, overrides: dict | None = None) -> SceneSpec:
@@ -190,10 +194,8 @@ class _Checker:
 
     def choice(self, key, value, rng: Range):
         """`value` checked against a one_of range."""
-        if value is _MISSING:
-            self.fail(key, value, f"required; {rng.describe()}")
-        if not rng.accepts(value):
-            self.fail(key, value, f"must be {rng.describe()}")
+        if value is _MISSING or not rng.accepts(value):
+            self.fail(key, value, f"required; {rng.describe()}" if value is _MISSING else f"must be {rng.describe()}")
         return value
 
     def vector(self, key, value, n, rng: Range = finite):
@@ -212,18 +214,14 @@ class _Checker:
         return lo, hi
 
     def text(self, key, value):
-        if value is _MISSING:
-            self.fail(key, value, "required")
-        if not isinstance(value, str) or not value:
-            self.fail(key, value, "expected a non-empty string")
+        if value is _MISSING or not isinstance(value, str) or not value:
+            self.fail(key, value, "required" if value is _MISSING else "expected a non-empty string")
         return value
 
     def flag(self, key, value, default):
-        if value is _MISSING:
-            return default
-        if not isinstance(value, bool):
+        if value is not _MISSING and not isinstance(value, bool):
             self.fail(key, value, "expected true or false")
-        return value
+        return default if value is _MISSING else value
 
     # --- the file -------------------------------------------------------------------
     def scene(self, data) -> SceneSpec:
@@ -245,7 +243,7 @@ class _Checker:
             remove_escaped=self.flag("remove_escaped", data.get("remove_escaped", _MISSING), True),
             gravity=self.vector("physics.gravity", gravity, dim, RANGES["physics.gravity"]),
             **{k: self.number(f"physics.{k}", physics.get(k, DEFAULTS[f"physics.{k}"]), RANGES[f"physics.{k}"])
-               for k in ("alpha", "delta", "xsph")},
+               for k in ("alpha", "delta", "xsph", "nu")},
             materials=self.materials(data.get("materials", [{"name": "water"}])),
             fluid=[], walls=[], probes=[],
         )
@@ -256,9 +254,8 @@ class _Checker:
         spec.walls = [self.block(f"walls[{k}]", b, spec, names, WALL_KEYS) for k, b in enumerate(self.entries("walls", data))]
         seen = {}
         for k, w in enumerate(spec.walls):
-            if w.name in seen:
+            if seen.setdefault(w.name, k) != k:
                 self.fail(f"walls[{k}].name", w.name, f"already the name of walls[{seen[w.name]}]")
-            seen[w.name] = k
             if w.model != spec.walls[0].model:
                 self.fail(f"walls[{k}].model", w.model, f"all wall groups need one model (walls[0] is "
                           f"{spec.walls[0].model!r}): the wall terms act on every wall particle")
@@ -275,6 +272,7 @@ class _Checker:
         spec.domain = self.box("domain", data["domain"], dim) if "domain" in data else None
         lo, hi = spec.domain or default_domain(spec)
         spec.probes = self.probes(self.entries("probes", data), spec, lo, hi)
+        spec.open_boundaries = open_boundaries(self, self.entries("open_boundaries", data), spec, names)
         return spec
 
     def entries(self, key, data):
@@ -335,6 +333,7 @@ class _Checker:
             block.material = material_names.index(name)
         block.velocity = self.vector(f"{key}.velocity", entry["velocity"], spec.dim, RANGES["velocity"]) if "velocity" in entry else None
         block.hydrostatic = self.flag(f"{key}.hydrostatic", entry.get("hydrostatic", _MISSING), True)
+        block.pressure = self.number(f"{key}.pressure", entry.get("pressure", 0.0), RANGES["pressure"])
         block.name = self.text(f"{key}.name", entry["name"]) if "name" in entry else key
         block.model = self.choice(f"{key}.model", entry.get("model", DEFAULTS["model"]), RANGES["model"])
         kind = entry.get("kind", "tank" if shape == "box" else "obstacle")
