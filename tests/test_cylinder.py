@@ -1,0 +1,114 @@
+"""The cylinder benchmark of Schaefer & Turek (1996), case 2D-1 (Re 20): cases/cylinder.py
+against the reference drag, lift and pressure difference (docs/validation.md, "Flow past a
+cylinder"). The measured values quoted below come from the study there."""
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import taisph
+from taisph.probes import Probes
+
+REFERENCE = {"C_D": 5.5795, "C_L": 0.0106, "dp": 0.1175}  # Schaefer & Turek (1996), Re 20
+D, NU, RHO, H = 0.1, 1e-3, 1.0, 0.41
+
+
+def run(dx, t_end, window, **params):
+    """Run the case to `t_end`; the means of C_D, C_L and dp = p_front - p_back over the
+    last `window` seconds, and the simulation's health at the end."""
+    scene = taisph.cases.cylinder(dx=dx, t_end=t_end, **params)
+    re = params.get("re", 20.0)
+    u_mean = re * NU / D
+    probes = Probes(scene.probes, walls=scene.wall_groups)
+    sim = taisph.Simulation(scene)
+    inlet0 = np.count_nonzero(sim.buffer & (sim.positions()[:, 0] < 0))
+    mass0 = sim.masses()[sim.fluid].sum()
+    sim.run(t_end, frames=0, writers=[probes])
+    t, force = probes.series("cylinder")
+    _, front = probes.series("p_front")
+    _, back = probes.series("p_back")
+    last = t > t_end - window
+    q = 0.5 * RHO * u_mean**2 * D
+    x = sim.positions()
+    out = {"C_D": force[last, 0].mean() / q, "C_L": force[last, 1].mean() / q, "dp": (front - back)[last].mean(),
+           "extra_inlet_buffer": np.count_nonzero(sim.buffer & (x[:, 0] < 0)) - inlet0,
+           "fluid_in_walls": np.count_nonzero(sim.fluid & ((x[:, 1] < 0) | (x[:, 1] > H))),
+           "mass_change": sim.masses()[sim.fluid].sum() / mass0 - 1.0, "mass_in": sim.open_boundary_mass()[0]}
+    sim.close()
+    return out
+
+
+def test_the_scene_is_the_benchmark():
+    """Geometry and flow of 2D-1: the cylinder's wall group is centred on (0.2, 0.2) with
+    radius D/2 (its outer layer, on the fluid's lattice, within dx of the circle), the
+    fluid fills the channel outside it, the inflow peaks at 0.3 m/s, the probes are there."""
+    dx = 0.01
+    scene = taisph.cases.cylinder(dx=dx)
+    body = scene.position[scene.wall_groups["cylinder"]]
+    assert np.all(scene.kind[scene.wall_groups["cylinder"]] == taisph.WALL)
+    assert np.allclose(body.mean(axis=0), (0.2, 0.2), atol=1e-12)  # symmetric about the centre
+    r = np.linalg.norm(body - (0.2, 0.2), axis=1)
+    assert r.max() < D / 2 and r.max() > D / 2 - dx
+    fluid = scene.position[(scene.kind == taisph.FLUID) & (scene.quantities["open_zone"] == 0)]
+    assert np.linalg.norm(fluid - (0.2, 0.2), axis=1).min() >= D / 2
+    assert fluid[:, 0].min() > 0 and fluid[:, 0].max() < 2.2 and fluid[:, 1].min() > 0 and fluid[:, 1].max() < H
+    assert len(fluid) == pytest.approx((2.2 * H - math.pi * D**2 / 4) / dx**2, rel=0.01)
+    inlet = scene.open_boundaries[0]
+    table, _ = inlet.table(2)
+    assert table[-1, :, 0, 0].max() == pytest.approx(0.3, rel=1e-3) and table[0].max() == 0.0  # ramped from rest
+    assert {p.name for p in scene.probes} == {"cylinder", "p_front", "p_back"}
+    assert taisph.cases.cylinder(dx=dx, re=100).open_boundaries[0].table(2)[0][-1].max() == pytest.approx(1.5,
+                                                                                                          rel=1e-3)
+
+
+def test_the_command_line_writes_the_probes(tmp_path):
+    """``python -m taisph cylinder --no-output`` runs the case with its own probes and
+    wall group into OUT/probes.csv (a few steps at D/dx = 10)."""
+    done = subprocess.run([sys.executable, "-m", "taisph", "cylinder", "--dx", "0.01", "--t-end", "0.02",
+                           "--no-output", "--no-progress", "--out", str(tmp_path)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    table = taisph.probes.read_csv(tmp_path / "probes.csv")
+    assert {"cylinder_x", "cylinder_y", "p_front", "p_back"} <= set(table)
+    assert len(table["time"]) > 2
+
+
+def test_drag_at_coarse_resolution():
+    """D/dx = 10, 4 s (the 1 s ramp, then the flow about the cylinder steady within the
+    noise after ~2 s; its last 2 s averaged; ~55 s on the 2-core VM). Measured: C_D 6.93,
+    dp 0.135 Pa, C_L 0.12, inflow mass +0.75 % (8 s, last 3 s: C_D 6.99, dp 0.134;
+    docs/validation.md). Asserted:
+    - the drag lies between the reference and 1.4 times it: at D/dx = 10 the boundary
+      layer (thickness ~ D / sqrt(Re) = 2 dx) is barely resolved and the drag is too high
+      (+25 %; +21 % at D/dx = 20; part of it is the background pressure's spurious force,
+      docs/validation.md); below the reference or far above it is a broken wall,
+      viscosity or force probe;
+    - the pressure difference front - back within 25 % of the reference (measured +14 %);
+    - the lift is small: |C_L| < 0.1 C_D (the channel is nearly symmetric);
+    - the open boundaries work: the mass that entered is the inflow's integral
+      0.41 U (t - ramp/2) within 2 %, the channel's mass stays within 1 %, the inlet's
+      buffer keeps its particles and no fluid leaks into the walls."""
+    t_end = 4.0
+    out = run(0.01, t_end, window=2.0)
+    assert REFERENCE["C_D"] < out["C_D"] < 1.4 * REFERENCE["C_D"], out
+    assert out["dp"] == pytest.approx(REFERENCE["dp"], rel=0.25), out
+    assert abs(out["C_L"]) < 0.1 * out["C_D"], out
+    assert out["mass_in"] == pytest.approx(RHO * H * 0.2 * (t_end - 0.5), rel=0.02), out
+    assert abs(out["mass_change"]) < 0.01, out
+    assert out["extra_inlet_buffer"] == 0 and out["fluid_in_walls"] == 0, out
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="not met: C_D +21 %, dp +10.3 % at D/dx = 20 (docs/validation.md, "
+                   "'Flow past a cylinder': the background pressure's spurious force and too short a wake)")
+def test_the_benchmark_bar_at_twenty_particles_per_diameter():
+    """D/dx = 20 to t = 6 s, the last 2 s averaged: C_D within 5 % and dp within 10 % of
+    Schaefer & Turek's. Measured (580 s on the 2-core VM at load ~4): C_D 6.76 (+21 %),
+    dp 0.1296 Pa (+10.3 %), C_L 0.011: the bar is NOT met (expected to fail, strictly:
+    a fix that meets it turns this into an unexpected pass, to be made a plain test)."""
+    out = run(0.005, 6.0, window=2.0)
+    assert out["C_D"] == pytest.approx(REFERENCE["C_D"], rel=0.05), out
+    assert out["dp"] == pytest.approx(REFERENCE["dp"], rel=0.10), out
+    assert out["extra_inlet_buffer"] == 0 and out["fluid_in_walls"] == 0, out
