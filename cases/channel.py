@@ -6,7 +6,7 @@ import numpy as np
 
 from taisph.geometry import lattice
 from taisph.scene import Material, Scene
-from taisph.scene.parameters import (ParameterError, at_least, checked, end_time, frame_count, known_integrator, known_kernel,
+from taisph.scene.parameters import (ParameterError, lattice_count, at_least, checked, end_time, frame_count, known_integrator, known_kernel,
                                      one_of, positive, smoothing_factor)
 from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, ParticleShifting, PressureGradient
 
@@ -55,6 +55,7 @@ def channel(
                                                                                            rel_tol=1e-9)):
         raise ParameterError(f"channel: dx = {dx:g} m must divide the height H = {H:g} m and the length L = {L:g} m "
                              "into whole numbers of particles, at least 4 across")
+    lattice_count("channel", "the channel", dx, ("H", H), ("L", L))  # refused for memory before anything is built
     nu = mu / rho0
     u_max = H**2 * (p_in - p_out) / (8.0 * mu * L)
     water = Material("water", rho0=rho0, c0=c0, gamma=7.0)
