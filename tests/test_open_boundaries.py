@@ -143,7 +143,8 @@ def test_a_reversing_flow_keeps_its_mass_and_its_spacing(periods):
     Particles cross a face a whole column (20 here, 1.25 % of the fluid) at a time, so the
     fluid mass at one instant is that coarse; its mean over a period (16 samples) is not.
     Measured: the period means stay within 0.7 % of the first's over 3 periods and 0.8 %
-    over 10 (bar 0.5 %); the closest two particles, 0.33 dx (bar 0.5 dx): buffers refilled
+    over 10 (bar 0.5 %); the closest two particles, 0.33 dx over 3 periods and 0.26 dx over
+    10 (bar 0.5 dx): buffers refilled
     by fluid that flowed out are not a lattice, and their lines move rigidly. New
     particles are never placed within 0.5 dx of another (the spawn's check). Held at 1 %
     and 0.25 dx so that a regression shows; both zones must see flow both ways."""
