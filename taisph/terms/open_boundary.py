@@ -85,19 +85,22 @@ class OpenBoundaries(Term):
 
     def __init__(self, zones: list, dim: int, dx: float):
         self.zones, self.dim, self.dx = zones, dim, dx
-        self.params = {}
-        for z in zones:
-            self.params.update({k: ("vector" if v in ("vector", "vector3") else v) for k, v in _param_names(z, dim).items()})
+        self._declare()
         super().__init__()
         self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in zones)}
         self._tables = None
 
+    def _declare(self):
+        """The zones' runtime parameters, declared as a term's (``params``)."""
+        self.params = {}
+        for z in self.zones:
+            self.params.update({k: ("vector" if v in ("vector", "vector3") else v)
+                                for k, v in _param_names(z, self.dim).items()})
+
     # --- host side ----------------------------------------------------------------
     def refresh(self):
         """Recompute the parameter values from the zones (after a zone was added or changed)."""
-        self.params = {}
-        for z in self.zones:
-            self.params.update({k: ("vector" if v in ("vector", "vector3") else v) for k, v in _param_names(z, self.dim).items()})
+        self._declare()
         self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in self.zones)}
         self.values = {}
         offset = 0
@@ -287,11 +290,11 @@ class OpenBoundaries(Term):
         """The zones' bookkeeping after the particles moved (serial; see the module
         docstring): fluid <-> buffer across each face, new buffer particles behind
         those that entered, retired ones dropped and the arrays compacted."""
-        from ..engine.kernels import TRACED, copy_rows
+        from ..engine.kernels import TRACED, _CountPairs, copy_rows
 
         q, grid = self.q, solver.grid
         copy = copy_rows(solver)
-        counter = _Count(q)
+        counter = _CountPairs(q)  # how many particles lie within the radius asked for
         n_zones, dim = len(self.zones), self.dim
         prev_v, prev_s = self.prev_v, self.prev_s
 
@@ -359,15 +362,3 @@ class OpenBoundaries(Term):
                     s.sizes[st.N_PARTICLES] = kept + made
 
         return body
-
-
-@ti.data_oriented
-class _Count:
-    """Neighbour visitor: how many particles (of any kind) lie within the radius asked for."""
-
-    def __init__(self, q):
-        self.q = q
-
-    @ti.func
-    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
-        acc += 1
