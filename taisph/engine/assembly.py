@@ -22,7 +22,7 @@ from . import guards, integrators, kernels, neighbours, runtime, smoothing, time
 from .dfsph import solver as dfsph
 from .dfsph import pairs
 from .layout import Layout
-from ..terms import open_boundary
+from ..terms import open_boundary, rigid_bodies
 from ..scene.solvers import dfsph_kept_terms
 
 
@@ -35,7 +35,7 @@ class Buffers(collections.namedtuple("Buffers", "v s i")):
 
 class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill "
                                           "params mat sizes status flags x_ref nlist ncount aux_int aux_real "
-                                          "tables")):
+                                          "tables bodies")):
     """The fields every kernel works on (:mod:`.fields`); a kernel takes ``t_target``,
     the time the step must not pass (f64). Inside kernels ``s.<name>``:
 
@@ -48,6 +48,7 @@ class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count 
     x_ref, nlist, ncount   neighbour lists (a dummy row without lists; :mod:`.neighbours`)
     aux_int, aux_real   outputs of auxiliary kernels (neighbour pairs, probes); dummies in a step
     tables         lookup tables of terms (open boundaries' velocity tables; one entry without)
+    bodies         rigid bodies' state and motion tables, f64 (:mod:`taisph.terms.rigid_bodies`; one entry without)
     """
 
     __slots__ = ()
@@ -200,6 +201,9 @@ class Solver:
         # open boundaries (taisph.terms.open_boundary): their term, a bound copy, or None
         self.open = next((t for t in self.terms if t.name == "open_boundaries"), None)
         self.table_capacity = open_boundary.TABLE_CAPACITY if self.open is not None else 1
+        # moving and floating bodies (taisph.terms.rigid_bodies): their term, a bound copy, or None
+        self.bodies = next((t for t in self.terms if t.name == "rigid_bodies"), None)
+        self.body_capacity = rigid_bodies.CAPACITY if self.bodies is not None else 1
 
     def active_terms(self, scene) -> list:
         """The scene's terms compiled into this solver's kernels (DFSPH: its non-pressure ones)."""
@@ -273,17 +277,21 @@ class Solver:
         return build
 
     def step_kernels(self, fields, serial_sort: bool) -> tuple:
-        """The kernels of one step on `fields` (a FieldSet), in order: sort, (open boundaries'
-        buffer values), the passes, force, (open boundaries' bookkeeping)
+        """The kernels of one step on `fields` (a FieldSet), in order: sort, the terms'
+        ``after_sort`` launches (open boundaries' buffer values), the passes, force, the
+        terms' ``after_force`` launches (bodies' motion, open boundaries' bookkeeping)
         (DFSPH: one callable, :class:`taisph.engine.dfsph.solver.Stepper`, which iterates its solves)."""
         if self.dfsph:
             return fields.kernel(("dfsph", serial_sort), lambda args: (dfsph.Stepper(self, fields, serial_sort),))
 
         def build(args):  # only on the first call for these fields: the step's hot path is the cache lookup
-            opened = [self.open] if self.open is not None else []  # open boundaries: a pass before, one after
-            bodies = [kernels.sort_body(self, serial_sort), *[t.after_sort(self) for t in opened],
-                      *[kernels.pass_body(self, p) for p in self.passes], kernels.force_body(self),
-                      *[t.after_force(self) for t in opened]]
+            # terms with launches of their own (open boundaries, bodies); bodies move before the
+            # open boundaries' bookkeeping compacts the arrays
+            before = [t.after_sort(self) for t in self.terms if hasattr(t, "after_sort")]
+            after = [t.after_force(self) for t in sorted((t for t in self.terms if hasattr(t, "after_force")),
+                                                         key=lambda t: t.name != "rigid_bodies")]
+            bodies = [kernels.sort_body(self, serial_sort), *before,
+                      *[kernels.pass_body(self, p) for p in self.passes], kernels.force_body(self), *after]
             return tuple(self.make_kernel(b)(args) for b in bodies)
 
         return fields.kernel(("step", serial_sort), build)

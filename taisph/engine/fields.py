@@ -65,7 +65,7 @@ class FieldSet:
             x_ref=field(real, (rows,), vector=True), nlist=field(ti.i32, (rows, list_capacity)),
             ncount=field(ti.i32, (rows,)),
             aux_int=field(ti.i32, (1, 1)), aux_real=field(real, (1, 1)),  # given as arguments to aux kernels
-            tables=field(real, (solver.table_capacity,)),
+            tables=field(real, (solver.table_capacity,)), bodies=field(ti.f64, (solver.body_capacity,)),
         )
         self.extra = solver.extra_fields(field, capacity, list_capacity)  # DFSPH's pair list, or None
         self.controls = None  # the host-side settings of the simulation using these fields (State)

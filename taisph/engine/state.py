@@ -119,6 +119,15 @@ class State:
                 ) from None
             {"vector": vec, "scalar": sca, "integer": ints}[kind][getattr(L.q, name)] = values
         self.set_state(vec, sca, ints)
+        if self.solver.bodies is not None:  # the bodies' initial state and motion tables
+            self.write_bodies(scene.terms_by_name["rigid_bodies"].field_values(scene.dim))
+
+    def write_bodies(self, values: np.ndarray):
+        """The ``bodies`` field (:mod:`taisph.terms.rigid_bodies`), padded to its capacity."""
+        self.fields.args.bodies.from_numpy(np.pad(values, (0, self.solver.body_capacity - len(values))))
+
+    def read_bodies(self) -> np.ndarray:
+        return self.fields.args.bodies.to_numpy()
 
     def set_state(self, vec, sca, ints, buffers=None):
         """Write (vectors, scalars, integers), in memory order, to C (or `buffers`)."""
@@ -301,6 +310,8 @@ class State:
                       x_ref=self.x_ref.to_numpy()[:rows], nlist=self.nlist.to_numpy()[:rows, : self.list_capacity],
                       ncount=self.ncount.to_numpy()[:rows],
                       cell_start=self.cell_start.to_numpy()[: self.grid.n_cells + 1])
+        if self.solver.bodies is not None:
+            arrays["bodies"] = self.read_bodies()
         return arrays
 
     def restore(self, arrays):
@@ -335,6 +346,8 @@ class State:
         self.nlist.from_numpy(np.pad(nlist, ((0, shape[0] - nlist.shape[0]), (0, shape[1] - nlist.shape[1]))))
         start = arrays["cell_start"]
         self.cell_start.from_numpy(np.pad(start, (0, self.cell_start.shape[0] - len(start))))
+        if self.solver.bodies is not None and "bodies" in arrays:
+            self.write_bodies(arrays["bodies"])
 
     # --- auxiliary kernels (neighbour pairs for tests, probes) ------------------------
     def run_auxiliary(self, build, time: float, aux_int=(1, 1), aux_real=(1, 1)):

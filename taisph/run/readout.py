@@ -1,10 +1,20 @@
 """What a simulation's state reads as on the host: numpy arrays in particle-id order,
 the masks of fluid, wall and buffer particles, and the sums made of them."""
 
+import collections
+
 import numpy as np
 
 from ..engine import status as st
 from ..engine.layout import FLUID, WALL
+
+
+BodyState = collections.namedtuple("BodyState", "position orientation velocity angular_velocity force torque mass")
+BodyState.__doc__ = """A body's state (:meth:`Readout.bodies`): its reference point (centre of mass of
+a floating body, pivot of a prescribed one, m), orientation (2D: angle, rad; 3D: unit
+quaternion (w, x, y, z)), velocity (m/s), angular velocity (2D: rad/s about z; 3D: a
+vector), the fluid's and contacts' force (N; per metre in 2D) and torque of the last step
+(gravity not included), and its mass (kg; per metre in 2D)."""
 
 
 class Readout:
@@ -78,6 +88,35 @@ class Readout:
     def momentum(self) -> np.ndarray:
         m = self.masses()[self.fluid]
         return (m[:, None] * self.velocities()[self.fluid]).sum(axis=0)
+
+    def bodies(self) -> dict:
+        """Each body's :class:`BodyState` now, by name (empty without bodies)."""
+        if self.solver.bodies is None:
+            return {}
+        from ..terms import rigid_bodies as rb
+
+        values = self.state.read_bodies()
+        d = self.dim
+        out = {}
+        for k, body in enumerate(self.scene.bodies):
+            row = values[k * rb.BODY_COLS:(k + 1) * rb.BODY_COLS]
+            out[body.name] = BodyState(
+                position=row[rb.CENTRE:rb.CENTRE + d].copy(),
+                orientation=float(row[rb.ORIENTATION]) if d == 2 else row[rb.ORIENTATION:rb.ORIENTATION + 4].copy(),
+                velocity=row[rb.VELOCITY:rb.VELOCITY + d].copy(),
+                angular_velocity=float(row[rb.OMEGA + 2]) if d == 2 else row[rb.OMEGA:rb.OMEGA + 3].copy(),
+                force=row[rb.FORCE:rb.FORCE + d].copy(),
+                torque=float(row[rb.TORQUE + 2]) if d == 2 else row[rb.TORQUE:rb.TORQUE + 3].copy(),
+                mass=body.mass)
+        return out
+
+    def momentum_with_bodies(self) -> np.ndarray:
+        """Linear momentum of the fluid and the floating bodies (kg m/s; per metre in 2D)."""
+        total = self.momentum()
+        for body, state in zip(self.scene.bodies, self.bodies().values()):
+            if body.motion == "floating":
+                total = total + body.mass * state.velocity
+        return total
 
     def kinetic_energy(self) -> float:
         m = self.masses()[self.fluid]

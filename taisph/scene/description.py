@@ -36,4 +36,5 @@ def describe(scene) -> str:
     if scene.neighbour_skin > 0:
         lines.append(f"  neighbour lists with a skin of {scene.neighbour_skin:g} support radii")
     lines += [f"  open boundary {z.describe()}" for z in scene.open_boundaries]
+    lines += [f"  {b.describe()}" for b in scene.bodies]
     return "\n".join(lines)

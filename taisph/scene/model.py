@@ -154,6 +154,8 @@ class Scene:
     # command-line run of the scene writes to OUT/probes.csv besides --probe's
     wall_groups: dict = field(default_factory=dict)
     probes: list = field(default_factory=list)
+    # moving and floating bodies (taisph.scene.bodies.Body), made by add_body
+    bodies: list = field(default_factory=list)
 
     def __post_init__(self):
         if self.dim not in (1, 2, 3):
@@ -220,6 +222,16 @@ class Scene:
         from .open_boundary import add
 
         return add(self, name, at, to, normal, velocity, pressure, profile, period, layers, material)
+
+    def add_body(self, name: str, particles, motion: str = "floating", *, density=None, mass=None, centre=None,
+                 inertia=None, velocity=None, angular_velocity=None, fixed=(), trajectory=None, axis=None,
+                 until=None):
+        """A body of wall particles moving as one, ``"floating"`` or ``"prescribed"``: every
+        argument in :func:`taisph.scene.bodies.add`, the physics in docs/bodies.md."""
+        from .bodies import add
+
+        return add(self, name, particles, motion, density, mass, centre, inertia, velocity, angular_velocity,
+                   fixed, trajectory, axis, until)
 
     # --- derived ----------------------------------------------------------------
     @property

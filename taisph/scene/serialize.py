@@ -45,8 +45,9 @@ MATERIALS = {cls.__name__: cls for cls in (Material, Gas)}
 ARRAYS = ("position", "velocity", "mass", "density", "kind", "material")
 QUANTITY = "quantity."  # prefix of the further quantities' arrays
 WALL_GROUP = "wall_group."  # prefix of the wall groups' particle indices
+BODY = "body."  # prefix of a body's arrays (its particles, its motion table)
 SPECIAL = set(ARRAYS) | {"quantities", "materials", "terms", "eos", "domain", "open_boundaries", "wall_groups",
-                         "probes"}  # Scene fields not plain
+                         "probes", "bodies"}  # Scene fields not plain
 
 
 class SceneDataError(InputError):
@@ -192,6 +193,37 @@ def zone_from_data(data: dict):
         raise SceneDataError(f"open boundary {data.get('name')!r}: {err}") from None
 
 
+def body_to_data(body) -> tuple[dict, dict]:
+    """A body (:class:`taisph.scene.bodies.Body`) as plain data and its arrays (particles, table)."""
+    data = {f.name: getattr(body, f.name) for f in dataclasses.fields(body) if f.name not in ("ids", "table")}
+    arrays = {BODY + body.name + ".ids": np.asarray(body.ids)}
+    if body.table is not None:
+        arrays[BODY + body.name + ".table"] = np.asarray(body.table[0])
+        data["table_dt"] = body.table[1]
+    return plain(data, f"body {body.name!r}"), arrays
+
+
+def body_from_data(data: dict, arrays):
+    from .bodies import Body
+
+    data = unplain(data, tuples=True)
+    name = data.get("name")
+    step = data.pop("table_dt", None)
+    try:
+        body = Body(ids=np.asarray(arrays[BODY + name + ".ids"]), **data)
+    except (TypeError, KeyError) as err:
+        raise SceneDataError(f"body {name!r}: {err}") from None
+    for key in ("centre", "velocity"):
+        setattr(body, key, np.asarray(getattr(body, key), float))
+    if isinstance(body.inertia, tuple):
+        body.inertia = np.asarray(body.inertia, float)
+    if isinstance(body.angular_velocity, tuple):
+        body.angular_velocity = np.asarray(body.angular_velocity, float)
+    if step is not None:
+        body.table = (np.asarray(arrays[BODY + name + ".table"], float), step)
+    return body
+
+
 # --- the scene ----------------------------------------------------------------------
 def scene_to_data(scene: Scene) -> tuple[dict, dict]:
     """``(data, arrays)``: the scene's settings, materials, equation of state and terms
@@ -208,6 +240,11 @@ def scene_to_data(scene: Scene) -> tuple[dict, dict]:
     data["wall_groups"] = sorted(scene.wall_groups)
     data["probes"] = [plain(dataclasses.asdict(p), f"probe {p.name!r}") for p in scene.probes]
     arrays = {name: np.asarray(getattr(scene, name)) for name in ARRAYS}
+    data["bodies"] = []  # bodies: each one's settings, particles and table; their term is rebuilt from them
+    for body in scene.bodies:
+        body_data, body_arrays = body_to_data(body)
+        data["bodies"].append(body_data)
+        arrays.update(body_arrays)
     arrays.update({WALL_GROUP + name: np.asarray(ids) for name, ids in scene.wall_groups.items()})
     arrays.update({QUANTITY + name: np.asarray(v) for name, v in scene.quantities.items()})
     return data, arrays
@@ -224,9 +261,16 @@ def scene_from_data(data: dict, arrays) -> Scene:
         raise SceneDataError(f"scene data without {', '.join(missing)}")
     quantities = {name: np.asarray(arrays[QUANTITY + name]) for name in data.pop("quantities", [])}
     zones = [zone_from_data(z) for z in data.pop("open_boundaries", [])]
+    bodies = [body_from_data(b, arrays) for b in data.pop("bodies", [])]
     terms = []
     for t in data.pop("terms"):
-        if t.get("class") == "OpenBoundaries":
+        if t.get("class") == "RigidBodies":
+            from ..terms.rigid_bodies import RigidBodies
+
+            term = RigidBodies(bodies, int(data["dim"]))
+            term.values.update(unplain(t.get("params", {}), tuples=True))
+            terms.append(term)
+        elif t.get("class") == "OpenBoundaries":
             from ..terms.open_boundary import OpenBoundaries
 
             term = OpenBoundaries(zones, int(data["dim"]), float(data["dx"])).refresh()
@@ -240,7 +284,7 @@ def scene_from_data(data: dict, arrays) -> Scene:
         domain=tuple(np.asarray(a, float) for a in unplain(data.pop("domain"))),
         materials=[material_from_data(m) for m in data.pop("materials")],
         eos=eos_from_data(data.pop("eos")),
-        terms=terms, open_boundaries=zones,
+        terms=terms, open_boundaries=zones, bodies=bodies,
         wall_groups={name: np.asarray(arrays[WALL_GROUP + name]) for name in data.pop("wall_groups", [])},
         probes=[Probe(**unplain(p, tuples=True)) for p in data.pop("probes", [])],
     )

@@ -19,6 +19,7 @@ from .pressure_hu_adams import PressureHuAdams
 from .riemann import Riemann
 from .xsph import XSPH
 from .open_boundary import OpenBoundaries  # made by Scene.add_open_boundary, not listed by hand
+from .rigid_bodies import RigidBodies  # made by Scene.add_body, not listed by hand
 
 __all__ = [
     "Term",
@@ -41,4 +42,5 @@ __all__ = [
     "ParticleShifting",
     "Riemann",
     "OpenBoundaries",
+    "RigidBodies",
 ]

@@ -17,8 +17,9 @@ and the hydrostatic pressure is right up to the wall.
 For viscous (no-slip) walls each wall particle also gets the velocity
 v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf (Adami eq. 23), which
 ``LaminarViscosity(walls=True)`` uses; the continuity sum uses the wall's own
-(prescribed) velocity. Walls here move rigidly at constant velocity, so a_w = 0.
-``g`` is the scene's body force (the ``gravity`` parameter of :class:`Gravity`),
+(prescribed) velocity. a_w is the wall's acceleration: zero for walls that move at
+constant velocity, the body's for moving and floating bodies
+(:mod:`taisph.terms.rigid_bodies`, the ``wall_acceleration`` row). ``g`` is the scene's body force (the ``gravity`` parameter of :class:`Gravity`),
 zero without one. A wall particle with no fluid neighbour gets p_w = 0.
 
 Walls need enough layers to fill the kernel support of the fluid next to them:
@@ -47,6 +48,7 @@ class AdamiWall(Term):
         # the body force, if the scene has one (the Gravity term's parameter row)
         t.p_gravity = param_rows.get("gravity")
         t.has_gravity = t.p_gravity is not None
+        t.a_row = getattr(layout.q, "wall_acceleration", -1)  # moving bodies (taisph.terms.rigid_bodies)
         return t
 
     def passes(self):
@@ -109,6 +111,10 @@ class _WallPressure(NeighbourPass):
             if ti.static(self.t.has_gravity):
                 for d in ti.static(range(dim)):
                     head += s.params[self.t.p_gravity + d] * acc[2 + d]
+            if ti.static(self.t.a_row >= 0):  # (g - a_w): a wall that accelerates into the fluid presses
+                a_w = s.Sv[self.t.a_row, i]
+                for d in ti.static(range(dim)):
+                    head -= a_w[d] * acc[2 + d]
             p = (acc[1] + head) / acc[0]
             for d in ti.static(range(dim)):
                 ghost[d] = 2.0 * v_wall[d] - acc[2 + dim + d] / acc[0]

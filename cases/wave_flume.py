@@ -1,0 +1,108 @@
+"""Wave flume: a piston wave maker makes regular waves in still water (first-order
+wave-maker theory, Dean & Dalrymple 1991; dispersion relation omega^2 = g k tanh kh)."""
+
+import math
+
+import numpy as np
+
+from taisph.eos import Tait
+from taisph.geometry import lattice
+from taisph.messages import InputError
+from taisph.probes import Probe, elevation
+from taisph.scene import Material, Scene
+from taisph.scene import wave_makers
+from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, end_time, frame_count,
+                                     gravity_magnitude, known_integrator, known_kernel, lattice_count, optional,
+                                     positive, smoothing_factor, speed_of_sound, viscosity_alpha)
+from taisph.scene.water import hydrostatic_density, sound_speed
+from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, PressureGradient
+
+GAUGES = (1.0, 2.0, 3.0)  # m from the piston's rest position: g1, g2, g3
+
+
+@checked(dx=positive, length=positive, depth=positive, height=positive, period=positive, ramp=positive,
+         alpha=viscosity_alpha, delta=optional(diffusion_delta), c0=optional(speed_of_sound),
+         h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel, integrator=known_integrator,
+         t_end=end_time, frames=frame_count)
+def wave_flume(
+    dx: float = 0.02,
+    length: float = 10.0,
+    depth: float = 0.5,
+    height: float = 0.04,
+    period: float = 1.5,
+    ramp: float = 1.0,
+    alpha: float = 0.02,
+    delta: float | None = 0.1,
+    c0: float | None = None,
+    h_factor: float = 1.3,
+    g: float = 9.81,
+    kernel: str = "spline",
+    integrator: str = "pc",
+    t_end: float = 9.0,
+    frames: int = 45,
+):
+    """A `length` x `depth` flume of still water with a piston at its left end making
+    regular waves of `height` (m) and `period` (s), ramped up over `ramp` periods.
+
+    Defaults: 10 m x 0.5 m, dx = 0.02 m (12 500 fluid particles), T = 1.5 s (kh = 1.111,
+    wavelength 2.83 m), H = 0.04 m (steepness 0.014); the piston's stroke from
+    first-order theory, S = H / [2 (cosh 2kh - 1) / (sinh 2kh + 2kh)] = H / 1.082
+    (:func:`taisph.scene.wave_makers.piston`). Dummy walls without friction (a free-slip
+    floor), Monaghan alpha = 0.02 (waves: little numerical damping), density diffusion
+    delta = 0.1, c0 = 10 sqrt(2 g depth). The far wall reflects: waves from it reach the
+    gauges after (2 length - x) / c, 9 s at g3 with the defaults.
+
+    Probes (``python -m taisph wave_flume`` writes OUT/probes.csv): the piston as the body
+    probe ``piston`` (``piston_x``: its centre, the rest position plus the stroke's
+    displacement) and the wave gauges ``g1``, ``g2``, ``g3`` at 1, 2 and 3 m from the
+    piston's rest position (free-surface height above the floor)."""
+    try:
+        motion = wave_makers.piston(height, period, depth, ramp=ramp, g=g)
+    except InputError as err:  # (a breaking steepness: the message names height, period and depth)
+        raise ParameterError(f"wave_flume: {err}") from None
+    stroke = 2.0 * motion.stroke
+    if stroke > 0.25 * length:
+        raise ParameterError(f"wave_flume: the piston's stroke for height = {height:g} m and period = {period:g} s in "
+                             f"depth = {depth:g} m is {stroke:.4g} m, more than a quarter of the flume's length = "
+                             f"{length:g} m (long waves need a long stroke: give a shorter period or a lower height)")
+    if length < GAUGES[-1] + 2 * dx:
+        raise ParameterError(f"wave_flume: length = {length:g} m with dx = {dx:g} m leaves no room for the gauges "
+                             f"(up to {GAUGES[-1]} m)")
+    if depth < 4 * dx or height < dx / 4:
+        raise ParameterError(f"wave_flume: dx = {dx:g} m does not resolve the water (depth = {depth:g} m needs "
+                             f"depth / dx >= 4, height = {height:g} m needs height / dx >= 1/4)")
+    lattice_count("wave_flume", "the flume", dx, ("length", length), ("depth", depth))
+    c0 = sound_speed(g, depth) if c0 is None else c0
+    water = Material("water", rho0=1000.0, c0=c0, gamma=7.0)
+    terms = [Continuity(walls=True), PressureGradient(walls=True), ArtificialViscosity(alpha=alpha),
+             Gravity(gravity=(0.0, -g)), AdamiWall()]
+    if delta:
+        terms.append(DensityDiffusion(delta=delta))
+    h = h_factor * dx
+    top = depth + 3 * height + 0.1  # the walls' height: above the highest crest
+    scene = Scene(name="wave_flume", dim=2, dx=dx, smoothing_length=h, domain=((0.0, 0.0), (1.0, 1.0)),
+                  open_faces=("+y",), remove_escaped=True, materials=[water], eos=Tait(), terms=terms,
+                  kernel=kernel, integrator=integrator, t_end=t_end, frames=frames,
+                  description=f"piston wave maker, H = {height:g} m, T = {period:g} s in {depth:g} m of water "
+                              f"(stroke {stroke:.4g} m), {length:g} m flume")
+    layers = math.ceil(scene.support_radius / dx - 1e-9)
+    pad = layers * dx
+    back = math.ceil((0.5 * stroke + dx) / dx) * dx  # the floor reaches under the piston's travel
+    scene.domain = (np.array([-pad - back - dx, -pad - dx]), np.array([length + pad + dx, top + 0.5 * depth]))
+    fluid = lattice((0.0, 0.0), (length, depth), dx)
+    scene.add_fluid(fluid, density=hydrostatic_density(water, g, depth - fluid[:, 1]))
+    scene.add_walls(lattice((-pad - back, -pad), (length + pad, 0.0), dx))  # floor
+    scene.add_walls(lattice((length, 0.0), (length + pad, top), dx))  # far wall
+    piston = lattice((-pad, 0.0), (0.0, top), dx)
+    scene.add_body("piston", piston, motion="prescribed", trajectory=motion, axis=(1.0, 0.0), until=t_end)
+    scene.probes += [Probe(name="piston", kind="body", walls="piston", every=10),
+                     *[elevation(f"g{k + 1}", at=(x,), every=10) for k, x in enumerate(GAUGES)]]
+    return scene
+
+
+def expected(depth=0.5, height=0.04, period=1.5, g=9.81) -> dict:
+    """First-order theory's numbers for the flume: wavenumber, wavelength, kh, H/S, stroke."""
+    k = wave_makers.wavenumber(period, depth, g)
+    ratio = wave_makers.piston_transfer(k * depth)
+    return dict(k=k, wavelength=2 * math.pi / k, kh=k * depth, ratio=ratio, stroke=height / ratio,
+                celerity=2 * math.pi / k / period)

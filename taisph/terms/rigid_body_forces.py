@@ -1,0 +1,93 @@
+"""The forces on a body's particles: the fluid's, gathered from the force pass's own pair
+terms, and contact with walls and other bodies (:mod:`.rigid_bodies` sums them per body);
+the rotations the bodies' kernel uses.
+
+**Contact** (a floating body against walls and other bodies): a normal spring-dashpot
+between particles closer than the contact distance d_c (the particle spacing: the
+distance of two surfaces' particle rows when they touch),
+
+    F = m_pair [ k (d_c - d) - 2 zeta sqrt(k) (v_rel . n) ] n,   d < d_c,
+
+with k = ``contact_stiffness`` (1/s^2, default (0.3 c0 / h)^2: stiff on the flow's
+acoustic time scale, within the step's stability) and zeta = ``contact_damping``
+(default 1, critical), m_pair the body's mass per particle (the reduced mass for two
+floating bodies): no tunnelling, no friction (a documented simplification).
+"""
+
+import taichi as ti
+
+from ..engine.layout import FLUID
+
+
+@ti.func
+def cross2(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+@ti.func
+def perp(w, r):
+    """omega x r in 2D, omega the scalar rate about z."""
+    return ti.Vector([-w * r[1], w * r[0]])
+
+
+@ti.func
+def rotate_q(q, v):
+    """v rotated by the unit quaternion q = (w, x, y, z)."""
+    u = ti.Vector([q[1], q[2], q[3]])
+    t = 2.0 * u.cross(v)
+    return v + q[0] * t + u.cross(t)
+
+
+@ti.func
+def q_mul(a, b):
+    return ti.Vector([a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+                      a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+                      a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+                      a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]])
+
+
+@ti.data_oriented
+class BodyForce:
+    """Neighbour visitor: the force on body particle i (the wall) from its fluid
+    neighbours through every pair term, and from the contact spring-dashpot."""
+
+    def __init__(self, solver, body_cols, particle_mass, motion, floating):
+        self.q = solver.layout.q
+        self.kern = solver.kernel
+        self.terms = [t for t in solver.terms if t.has_pair]
+        self.p_inv_h = solver.param_rows["inv_h"]
+        self.p_grad_norm = solver.param_rows["grad_norm"]
+        self.p_k = solver.param_rows["contact_stiffness"]
+        self.p_zeta = solver.param_rows["contact_damping"]
+        self.p_dc = solver.param_rows["contact_distance"]
+        self.Rates = solver.Rates
+        self.real, self.dim = solver.real, solver.dim
+        # columns of the bodies field (taisph.terms.rigid_bodies): a block's length, the body's
+        # mass per particle, its motion's code, and the code of a floating body
+        self.cols, self.particle_mass, self.motion, self.floating = body_cols, particle_mass, motion, floating
+
+    @ti.func
+    def visit(self, s: ti.template(), w, j, rwj, r2, acc: ti.template()):
+        q = ti.static(self.q)
+        r = ti.sqrt(r2)
+        if s.Si[q.kind, j] == FLUID:
+            rjw = -rwj  # the force pass's r_ij = x_f - x_w (negation is exact: the same bits)
+            grad = (s.params[self.p_grad_norm] * self.kern.g(r * s.params[self.p_inv_h])) * rjw
+            rates = self.Rates(acc=ti.Vector.zero(self.real, self.dim))
+            for t in ti.static(self.terms):
+                t.pair(s, j, w, rjw, r, grad, rates)
+            acc -= s.Ss[q.mass, j] * rates.acc
+        elif s.Si[q.body, j] != s.Si[q.body, w] and r < s.params[self.p_dc] and r > 0.0:
+            mine = (s.Si[q.body, w] - 1) * self.cols
+            m = s.bodies[mine + self.particle_mass]
+            other = s.Si[q.body, j]
+            if other > 0:
+                base = (other - 1) * self.cols
+                if s.bodies[base + self.motion] == self.floating:
+                    mj = s.bodies[base + self.particle_mass]
+                    m = m * mj / (m + mj)
+            n = rwj / r
+            k = s.params[self.p_k]
+            closing = (s.Sv[q.velocity, w] - s.Sv[q.velocity, j]).dot(n)
+            push = m * (k * (s.params[self.p_dc] - r) - 2.0 * s.params[self.p_zeta] * ti.sqrt(k) * closing)
+            acc += ti.cast(push, self.real) * n

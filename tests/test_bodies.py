@@ -1,0 +1,238 @@
+"""Moving and floating bodies (taisph.terms.rigid_bodies, taisph.scene.bodies): rigid
+kinematics to round-off, momentum exchanged exactly with the fluid, Archimedes, contact,
+what is refused, effects on demand and checkpoints."""
+
+import math
+
+import numpy as np
+import pytest
+
+import taisph
+from taisph.engine import kernels
+from taisph.geometry import lattice
+from taisph.messages import InputError
+from taisph.scene import Material, Scene
+from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, Gravity, PressureGradient
+
+from test_effects import traced_while
+
+
+def empty_scene(dim=2, gravity=None, t_end=0.1):
+    """No fluid: bodies move by themselves (dummy-wall terms, which have nothing to act on)."""
+    terms = [PressureGradient(walls=True), Continuity(walls=True), AdamiWall()]
+    if gravity is not None:
+        terms.append(Gravity(gravity=gravity))
+    size = 1.0 if dim == 2 else 0.4
+    return Scene(name="empty", dim=dim, dx=0.02, smoothing_length=0.026, domain=(-size * np.ones(dim), size * np.ones(dim)),
+                 terms=terms, t_end=t_end)
+
+
+def test_a_floating_body_moves_exactly_with_its_initial_velocity():
+    """v0 = 1 m/s, no gravity, no fluid: 0.1 m in 0.1 s, every particle the same, the
+    shape kept to round-off (DualSPHysics #74: floating objects given a velocity moved the
+    wrong distance)."""
+    scene = empty_scene()
+    block = lattice((-0.1, -0.05), (0.1, 0.05), 0.02)
+    scene.add_body("box", block, density=500.0, velocity=(1.0, 0.0))
+    sim = taisph.Simulation(scene, dt=1e-3)
+    start = sim.positions()[sim.wall]
+    sim.run(0.1, frames=0)
+    moved = sim.positions()[sim.wall] - start
+    assert np.abs(moved - [0.1, 0.0]).max() < 1e-12
+    assert abs(sim.bodies()["box"].position[0] - 0.1) < 1e-12
+
+
+def test_a_free_spin_keeps_its_rate_and_shape():
+    """2D: omega stays what it was, each particle stays on its circle, angle = omega t."""
+    scene = empty_scene()
+    scene.add_body("box", lattice((-0.1, -0.05), (0.1, 0.05), 0.02), density=500.0, angular_velocity=3.0)
+    sim = taisph.Simulation(scene, dt=1e-3)
+    r0 = np.linalg.norm(sim.positions()[sim.wall], axis=1)
+    sim.run(0.5, frames=0)
+    state = sim.bodies()["box"]
+    assert state.angular_velocity == 3.0
+    assert abs(state.orientation - 1.5) < 1e-12
+    assert np.abs(np.linalg.norm(sim.positions()[sim.wall], axis=1) - r0).max() < 1e-12
+
+
+def body_frame_rates(sim):
+    state = sim.bodies()["brick"]
+    w, x, y, z = state.orientation
+    rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                    [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                    [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    return rot.T @ state.angular_velocity, state
+
+
+@pytest.mark.parametrize("axis, flips", [(1, True), (2, False)])
+def test_a_3d_spin_about_the_intermediate_axis_flips_and_about_the_major_one_does_not(axis, flips):
+    """A 0.3 x 0.2 x 0.1 m brick (y the intermediate axis, z the major one) spun at 5 rad/s
+    with a 0.2 % wobble: about y it tumbles (the rate along y reverses within 4 s: growth
+    rate 2.4 /s), about z it stays; |L| is kept to 1e-10 either way."""
+    scene = empty_scene(dim=3)
+    scene.add_body("brick", lattice((-0.15, -0.1, -0.05), (0.15, 0.1, 0.05), 0.02), density=500.0,
+                   angular_velocity=[0.01 if k == 0 else (5.0 if k == axis else 0.0) for k in range(3)])
+    sim = taisph.Simulation(scene, dt=1e-3)
+    inertia = scene.bodies[0].inertia
+    L0 = np.linalg.norm(inertia @ scene.bodies[0].angular_velocity)
+    lowest = math.inf
+    for k in range(40):
+        sim.run(0.1 * (k + 1), frames=0)
+        rates, state = body_frame_rates(sim)
+        lowest = min(lowest, rates[axis])
+        L = inertia @ rates  # in the body frame
+        assert abs(np.linalg.norm(L) - L0) < 1e-10 * L0
+    assert (lowest < -2.5) if flips else (lowest > 0.99 * 5.0)
+
+
+def periodic_box_with_body():
+    """Water in a periodic 1 m box, no gravity, no walls but a floating 0.2 m box moving through it."""
+    dx = 0.04
+    scene = Scene(name="box", dim=2, dx=dx, smoothing_length=1.3 * dx, domain=((0, 0), (1, 1)), periodic=(True, True),
+                  materials=[Material(rho0=1000.0, c0=20.0)], t_end=0.1,
+                  terms=[PressureGradient(walls=True), Continuity(walls=True),
+                         ArtificialViscosity(alpha=0.1, walls=True), AdamiWall()])
+    points = lattice((0, 0), (1, 1), dx)
+    inside = np.all(np.abs(points - 0.5) < 0.1, axis=1)
+    scene.add_fluid(points[~inside])
+    scene.add_body("box", points[inside], density=800.0, velocity=(0.5, 0.2), angular_velocity=1.0)
+    return scene
+
+
+def test_fluid_and_body_exchange_momentum_exactly():
+    """g = 0, periodic: the body pushes the water (and slows: it gives up over half its
+    momentum); the total momentum of water and body stays constant to 1e-9 of itself."""
+    sim = taisph.Simulation(periodic_box_with_body())
+    p0 = sim.momentum_with_bodies()
+    sim.run(0.1, frames=0)
+    p = sim.momentum_with_bodies()
+    body = sim.bodies()["box"]
+    assert np.linalg.norm(body.mass * body.velocity) < 0.5 * np.linalg.norm(body.mass * np.array([0.5, 0.2]))
+    assert np.linalg.norm(p - p0) < 1e-9 * np.linalg.norm(p0)
+
+
+def floating_box_run(dx, t_end, **params):
+    """(mean draft, mean vertical force / weight, largest roll in degrees, drift of the
+    centre) after the start-up (t > t_end / 3) of cases/floating_box; the draft as the
+    case's probes give it: the free surface at the gauge minus the box's bottom."""
+    scene = taisph.cases.floating_box(dx=dx, t_end=t_end, **params)
+    gauge_x = scene.probes[1].at[0]
+    body = scene.bodies[0]
+    height = (np.ptp(scene.position[body.ids][:, 1]) + dx)
+    sim = taisph.Simulation(scene)
+    start = sim.bodies()["box"].position
+    drafts, forces, rolls, drifts = [], [], [], []
+    samples = 30
+    for k in range(samples):
+        sim.run(t_end * (k + 1) / samples, frames=0)
+        state = sim.bodies()["box"]
+        x = sim.positions()[sim.fluid]
+        column = x[np.abs(x[:, 0] - gauge_x) < dx]
+        surface = column[:, 1].max() + dx / 2
+        if sim.time > t_end / 3:
+            drafts.append(surface - (state.position[1] - height / 2))
+            forces.append(state.force[1] / (state.mass * 9.81))
+            rolls.append(abs(math.degrees(state.orientation)))
+            drifts.append(np.linalg.norm(state.position - start))
+    return np.mean(drafts), np.mean(forces), max(rolls), max(drifts)
+
+
+def test_a_floating_box_floats_at_its_draft_quick():
+    """Archimedes, coarse (dx = 0.05 m, 1.5 s): a 0.5 m box of 500 kg/m^3 floats with 0.25 m
+    under water within 0.5 dx, the fluid carries its weight within 2 %, it does not roll."""
+    draft, force, roll, _ = floating_box_run(0.05, 1.5)
+    assert abs(draft - 0.25) < 0.5 * 0.05
+    assert abs(force - 1.0) < 0.02
+    assert roll < 0.5
+
+
+@pytest.mark.slow
+def test_a_floating_box_floats_at_its_draft():
+    """Archimedes (issue 28, check 3), dx = 0.02 m to 3 s: draft within 0.5 dx of 0.25 m,
+    vertical force = m g within 1 %, roll below 0.5 deg (measured: 0.2479 m, 0.9995, 2e-6 deg)."""
+    draft, force, roll, _ = floating_box_run(0.02, 3.0)
+    assert abs(draft - 0.25) < 0.5 * 0.02
+    assert abs(force - 1.0) < 0.01
+    assert roll < 0.5
+
+
+@pytest.mark.slow
+def test_a_neutrally_buoyant_box_stays_where_it_is():
+    """A submerged 0.25 m box of water's density drifts less than dx in 5 s (dx = 0.025 m)."""
+    *_, drift = floating_box_run(0.025, 5.0, box_width=0.25, box_height=0.25, box_density=1000.0, box_bottom=0.4)
+    assert drift < 0.025
+
+
+def test_a_body_dropped_on_the_floor_rests_on_it():
+    """No fluid, gravity: a box dropped 0.1 m onto a wall comes to rest on it, its particles
+    no nearer the floor's than half the spacing (no tunnelling), its speed ~0 after 1 s."""
+    scene = empty_scene(gravity=(0.0, -9.81), t_end=1.0)
+    scene.materials[0].c0 = 20.0
+    scene.add_walls(lattice((-0.5, -0.3), (0.5, -0.24), 0.02))  # floor, top at y = -0.24
+    scene.add_body("box", lattice((-0.1, -0.14), (0.1, -0.04), 0.02), density=500.0)
+    sim = taisph.Simulation(scene, dt=2e-4)
+    closest = math.inf
+    for k in range(20):
+        sim.run(0.05 * (k + 1), frames=0)
+        x = sim.positions()
+        body = np.zeros(len(x), bool)
+        body[scene.bodies[0].ids] = True
+        floor = sim.wall & ~body
+        d = np.linalg.norm(x[body][:, None, :] - x[floor][None, :, :], axis=2).min()
+        closest = min(closest, d)
+    assert closest > 0.5 * 0.02
+    state = sim.bodies()["box"]
+    assert np.linalg.norm(state.velocity) < 0.01
+    # the surfaces touch (the rows a spacing apart): centre half the box's height above the
+    # floor's surface, pressed in by its weight (m g / (k m_p) per bottom particle: 0.05 dx)
+    assert abs(state.position[1] - (-0.24 + 0.05)) < 0.1 * 0.02
+
+
+def test_scenes_without_bodies_compile_no_body_code():
+    with_body = traced_while(lambda: taisph.Simulation(periodic_box_with_body()).step(1))
+    assert ("rigid_bodies", "body motion") in with_body
+    without = traced_while(lambda: taisph.Simulation(taisph.cases.hydrostatic_tank(dx=0.1)).step(1))
+    assert not {name for name, _ in without} & {"rigid_bodies"}
+    assert kernels.TRACED  # (the record is on)
+
+
+def test_what_a_body_refuses():
+    scene = taisph.cases.floating_box(dx=0.05)
+    n = scene.n
+    fluid = scene.position[scene.kind == 0]
+    with pytest.raises(InputError, match="body 'b' overlaps the fluid"):
+        scene.add_body("b", fluid[:4] + 0.001, density=500.0)
+    with pytest.raises(InputError, match="body 'b' overlaps the walls"):
+        scene.add_body("b", scene.position[scene.kind == 1][:3] + 0.001, density=500.0)
+    free = np.array([[0.7, 1.4], [0.75, 1.4]])
+    with pytest.raises(InputError, match="body 'b': density must be positive"):
+        scene.add_body("b", free, density=-1.0)
+    with pytest.raises(InputError, match="give its mass or its density"):
+        scene.add_body("c", free, density=1.0, mass=2.0)
+    with pytest.raises(InputError, match="not a degree of freedom"):
+        scene.add_body("d", free, density=1.0, fixed=("q",))
+    with pytest.raises(InputError, match="the times must increase; row 3"):
+        scene.add_body("e", free, motion="prescribed", trajectory=[[0, 0, 0, 0], [1, 0, 0, 0], [0.5, 0, 0, 0]])
+    with pytest.raises(InputError, match="stroke larger than the tank"):
+        scene.add_body("f", free, motion="prescribed", trajectory=lambda t: (5.0 * t, 0.0, 0.0))
+    with pytest.raises(InputError, match="the body has no particles"):
+        scene.add_body("g", np.zeros((0, 2)), density=1.0)
+    assert scene.n == n and len(scene.bodies) == 1  # each refused body left the scene as it was
+    scene.add_body("h", free, density=500.0)
+    scene.solver = "dfsph"
+    with pytest.raises(InputError, match="WCSPH solver only"):
+        scene.validate()
+
+
+def test_a_run_with_bodies_resumes_from_a_checkpoint_bit_for_bit(tmp_path):
+    whole = taisph.Simulation(taisph.cases.floating_box(dx=0.05), deterministic=True)
+    whole.run(0.1, frames=0)
+    whole.run(0.2, frames=0)
+    half = taisph.Simulation(taisph.cases.floating_box(dx=0.05), deterministic=True)
+    half.run(0.1, frames=0)
+    half.save_checkpoint(tmp_path / "cp")
+    resumed = taisph.Simulation.from_checkpoint(tmp_path / "cp")
+    resumed.run(0.2, frames=0)
+    assert np.array_equal(resumed.positions(), whole.positions())
+    a, b = resumed.bodies()["box"], whole.bodies()["box"]
+    assert np.array_equal(a.position, b.position) and a.orientation == b.orientation
