@@ -236,3 +236,21 @@ def test_a_run_with_bodies_resumes_from_a_checkpoint_bit_for_bit(tmp_path):
     assert np.array_equal(resumed.positions(), whole.positions())
     a, b = resumed.bodies()["box"], whole.bodies()["box"]
     assert np.array_equal(a.position, b.position) and a.orientation == b.orientation
+
+
+def test_paraview_frames_carry_the_bodies_where_they_are(tmp_path):
+    """Each frame lists the bodies' particles (part 2) at their positions then, with their
+    velocity; the static walls stay one file (part 1)."""
+    from taisph.run.vtk import read_pvd
+    import meshio
+
+    sim = taisph.Simulation(taisph.cases.floating_box(dx=0.05))
+    sim.run(0.1, frames=2, out=tmp_path)
+    entries = read_pvd(tmp_path / "floating_box.pvd")
+    assert sorted({part for _, part, _ in entries}) == [0, 1, 2]
+    last = [f for t, part, f in entries if part == 2][-1]
+    mesh = meshio.read(tmp_path / last)
+    body = sim.wall & (sim.quantity("body") > 0)
+    assert np.allclose(mesh.points[:, :2], sim.positions()[body], atol=1e-12)
+    assert np.allclose(mesh.point_data["velocity"][:, :2], sim.velocities()[body], atol=1e-12)
+    assert len(meshio.read(tmp_path / "walls.vtu").points) == np.count_nonzero(sim.wall & ~body)

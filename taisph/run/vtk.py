@@ -6,6 +6,8 @@ Layout of an output folder::
     <case>_00000.vtu ...  fluid particles of each frame (zero-padded frame number)
     walls.vtu             wall particles, written once (static walls) and listed in
                           the index at every time as part 1
+    <case>_bodies_NNNNN.vtu  the particles of moving and floating bodies of each frame
+                          (scenes with bodies; part 2; their ``body`` array numbers them)
 
 Points always have three coordinates (z = 0 in 2D). Point arrays: ``velocity``
 (3 components), ``pressure``, ``density``, ``mass``, ``id`` (persistent: data is
@@ -82,7 +84,7 @@ def remove_series(folder, name: str, keep_walls: bool = False) -> int:
     (``name.pvd``) and, if that index lists it and not `keep_walls`, ``walls.vtu``; no
     other file. Returns the number of frames removed."""
     folder = Path(folder)
-    frame = re.compile(re.escape(name) + r"_\d{5,}\.vtu")
+    frame = re.compile(re.escape(name) + r"_(bodies_)?\d{5,}\.vtu")
     frames = [p for p in folder.iterdir() if frame.fullmatch(p.name) and p.is_file()]
     index = folder / f"{name}.pvd"
     walls = False
@@ -97,7 +99,7 @@ def remove_series(folder, name: str, keep_walls: bool = False) -> int:
         index.unlink()
     if walls and not keep_walls:
         (folder / "walls.vtu").unlink(missing_ok=True)
-    return len(frames)
+    return sum(1 for path in frames if "_bodies_" not in path.name[len(name):])
 
 
 class VTKWriter:
@@ -114,7 +116,9 @@ class VTKWriter:
         self.name = sim.scene.name
         self.frame, self.entries = (0, []) if resume is None else (resume[0], list(resume[1]))
         self.walls_file = None
-        walls = sim.wall
+        # moving and floating bodies' particles: a file per frame; the other walls once
+        self.bodies = sim.wall & (sim.quantity("body") > 0) if sim.solver.bodies is not None else None
+        walls = sim.wall if self.bodies is None else sim.wall & ~self.bodies
         self.removed = 0 if resume is not None else remove_series(self.folder, self.name, keep_walls=walls.any())
         if walls.any():
             self.walls_file = "walls.vtu"
@@ -150,6 +154,10 @@ class VTKWriter:
         self.entries.append((sim.time, 0, name))
         if self.walls_file:
             self.entries.append((sim.time, 1, self.walls_file))
+        if self.bodies is not None:
+            bodies = f"{self.name}_bodies_{self.frame:05d}.vtu"
+            write_vtu(self.folder / bodies, sim.positions()[self.bodies], self._arrays(sim, self.bodies))
+            self.entries.append((sim.time, 2, bodies))
         write_pvd(self.folder / f"{self.name}.pvd", self.entries)
         self.frame += 1
         return self.folder / name

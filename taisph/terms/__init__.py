@@ -6,6 +6,7 @@ from .artificial_viscosity import ArtificialViscosity
 from .base import NeighbourPass, Term
 from .continuity import Continuity
 from .continuity_colagrossi import ContinuityColagrossi
+from .damping_zone import DampingZone
 from .density_diffusion import DensityDiffusion
 from .energy import InternalEnergy
 from .gravity import Gravity
@@ -41,6 +42,7 @@ __all__ = [
     "DensityDiffusion",
     "ParticleShifting",
     "Riemann",
+    "DampingZone",
     "OpenBoundaries",
     "RigidBodies",
 ]
