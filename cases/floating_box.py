@@ -4,7 +4,7 @@ height submerged (Archimedes), its weight carried by the fluid's pressure."""
 import numpy as np
 
 from taisph.scene.parameters import (ParameterError, checked, end_time, frame_count, gravity_magnitude, known_integrator,
-                                     known_kernel, lattice_count, optional, positive, smoothing_factor,
+                                     known_kernel, lattice_count, one_of, optional, positive, smoothing_factor,
                                      speed_of_sound, viscosity_alpha)
 from taisph.geometry import lattice
 from taisph.probes import elevation
@@ -15,10 +15,11 @@ from .dam_break import _dam_break
 RHO_WATER = 1000.0
 
 
-@checked(dx=positive, tank_width=positive, depth=positive, box_width=positive, box_height=positive,
+@checked(dim=one_of(2, 3), dx=positive, tank_width=positive, depth=positive, box_width=positive, box_height=positive,
          box_density=positive, box_bottom=optional(positive), alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor,
          g=gravity_magnitude, kernel=known_kernel, integrator=known_integrator, t_end=end_time, frames=frame_count)
 def floating_box(
+    dim: int = 2,
     dx: float = 0.02,
     tank_width: float = 1.5,
     depth: float = 1.0,
@@ -64,18 +65,20 @@ def floating_box(
                              f"depth - box_bottom) must be between 0 and the water's depth ({depth:g} m)")
     lattice_count("floating_box", "the box", dx, ("box_width", box_width), ("box_height", box_height))
     lattice_count("floating_box", "the tank", dx, ("tank_width", tank_width), ("depth", depth))
-    scene = _dam_break(2, dx, tank_width, depth, None, tank_width, depth + box_height + 0.5, alpha, c0, h_factor,
-                       g, kernel, integrator, t_end, frames, "floating_box",
+    across = tank_width if dim == 3 else None  # 3D: a square tank, a cube (box_width across)
+    scene = _dam_break(dim, dx, tank_width, depth, across, tank_width, depth + box_height + 0.5, alpha, c0,
+                       h_factor, g, kernel, integrator, t_end, frames, "floating_box",
                        description=f"{box_width:g} m x {box_height:g} m box of {box_density:g} kg/m^3 floating in "
                                    f"{depth:g} m of still water")
     # the box's lattice continues the fluid's (corners on multiples of dx), at its draft
-    lo = np.array([round((tank_width - box_width) / 2 / dx), round((depth - draft) / dx)]) * dx
-    hi = lo + [round(box_width / dx) * dx, round(box_height / dx) * dx]
+    lo = np.array([round((tank_width - box_width) / 2 / dx), round((depth - draft) / dx)]
+                  + [round((tank_width - box_width) / 2 / dx)] * (dim - 2)) * dx
+    hi = lo + np.array([round(box_width / dx), round(box_height / dx)] + [round(box_width / dx)] * (dim - 2)) * dx
     inside = np.all((scene.position > lo) & (scene.position < hi), axis=1) & (scene.kind == 0)
     _drop(scene, inside)
     scene.add_body("box", lattice(lo, hi, dx), density=box_density)
-    gauge_x = 0.15 * tank_width
-    scene.probes += [_body_probe("box"), elevation("gauge", at=(gauge_x,))]
+    gauge = (0.15 * tank_width,) + (0.5 * tank_width,) * (dim - 2)
+    scene.probes += [_body_probe("box"), elevation("gauge", at=gauge)]
     assert UP == 1
     return scene
 

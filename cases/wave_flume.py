@@ -13,14 +13,16 @@ from taisph.scene import Material, Scene
 from taisph.scene import wave_makers
 from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, end_time, frame_count,
                                      gravity_magnitude, known_integrator, known_kernel, lattice_count, optional,
-                                     positive, smoothing_factor, speed_of_sound, viscosity_alpha)
+                                     at_least, positive, smoothing_factor, speed_of_sound, viscosity_alpha)
 from taisph.scene.water import hydrostatic_density, sound_speed
-from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, PressureGradient
+from taisph.terms import (AdamiWall, ArtificialViscosity, Continuity, DampingZone, DensityDiffusion, Gravity,
+                          PressureGradient)
 
 GAUGES = (1.0, 2.0, 3.0)  # m from the piston's rest position: g1, g2, g3
 
 
 @checked(dx=positive, length=positive, depth=positive, height=positive, period=positive, ramp=positive,
+         absorber=at_least(0),
          alpha=viscosity_alpha, delta=optional(diffusion_delta), c0=optional(speed_of_sound),
          h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel, integrator=known_integrator,
          t_end=end_time, frames=frame_count)
@@ -31,6 +33,7 @@ def wave_flume(
     height: float = 0.04,
     period: float = 1.5,
     ramp: float = 1.0,
+    absorber: float = 0.0,
     alpha: float = 0.02,
     delta: float | None = 0.1,
     c0: float | None = None,
@@ -50,7 +53,9 @@ def wave_flume(
     (:func:`taisph.scene.wave_makers.piston`). Dummy walls without friction (a free-slip
     floor), Monaghan alpha = 0.02 (waves: little numerical damping), density diffusion
     delta = 0.1, c0 = 10 sqrt(2 g depth). The far wall reflects: waves from it reach the
-    gauges after (2 length - x) / c, 9 s at g3 with the defaults.
+    gauges after (2 length - x) / c, 9 s at g3 with the defaults; `absorber` (m) puts a
+    damping zone that long against the far wall (:class:`taisph.terms.DampingZone`, rate
+    2 pi / period) to absorb them.
 
     Probes (``python -m taisph wave_flume`` writes OUT/probes.csv): the piston as the body
     probe ``piston`` (``piston_x``: its centre, the rest position plus the stroke's
@@ -78,6 +83,12 @@ def wave_flume(
              Gravity(gravity=(0.0, -g)), AdamiWall()]
     if delta:
         terms.append(DensityDiffusion(delta=delta))
+    if absorber:  # a sponge at the far end: waves die out instead of coming back
+        if absorber > length - GAUGES[-1] - 2 * dx:
+            raise ParameterError(f"wave_flume: absorber = {absorber:g} m reaches the gauges (the last at "
+                                 f"{GAUGES[-1]} m) in a flume of length = {length:g} m")
+        terms.append(DampingZone(damping_start=(length - absorber, 0.0), damping_direction=(absorber, 0.0),
+                                 damping_rate=2 * math.pi / period))
     h = h_factor * dx
     top = depth + 3 * height + 0.1  # the walls' height: above the highest crest
     scene = Scene(name="wave_flume", dim=2, dx=dx, smoothing_length=h, domain=((0.0, 0.0), (1.0, 1.0)),

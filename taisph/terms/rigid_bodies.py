@@ -158,7 +158,6 @@ class RigidBodies(Term):
 
         q, grid, dim, real = self.q, solver.grid, self.dim, solver.real
         motions, n_bodies = self.motions, len(self.motions)
-        floating = "floating" in motions
         integrator = solver.integrator.name
         gatherer = BodyForce(solver, BODY_COLS, PARTICLE_MASS, MOTION, MOTIONS["floating"])
         p_support2 = solver.param_rows["support2"]
@@ -325,13 +324,12 @@ class RigidBodies(Term):
             if s.status[st.IDLE] > 0.0:
                 n = 0
             dt = s.status[st.DT]
-            if ti.static(floating):  # the force on each floating body's particles, from S
-                for i in range(n):
-                    if s.Si[q.kind, i] == WALL and s.Si[q.body, i] > 0:
-                        if s.bodies[(s.Si[q.body, i] - 1) * BODY_COLS + MOTION] == MOTIONS["floating"]:
-                            acc = ti.Vector.zero(real, dim)
-                            grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], gatherer, acc)
-                            s.Sv[q.body_force, i] = acc
+            # the force on each body's particles, from S (a prescribed body's for its probe)
+            for i in range(n):
+                if s.Si[q.kind, i] == WALL and s.Si[q.body, i] > 0:
+                    acc = ti.Vector.zero(real, dim)
+                    grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], gatherer, acc)
+                    s.Sv[q.body_force, i] = acc
             ti.loop_config(serialize=True)
             for _ in range(1):
                 if n > 0:
@@ -339,21 +337,20 @@ class RigidBodies(Term):
                         base = b * BODY_COLS
                         for d in ti.static(range(6)):
                             s.bodies[base + FORCE + d] = 0.0
-                    if ti.static(floating):
-                        for i in range(n):
-                            k = s.Si[q.body, i]
-                            if k > 0 and s.Si[q.kind, i] == WALL:
-                                base = (k - 1) * BODY_COLS
-                                f = ti.cast(s.Sv[q.body_force, i], ti.f64)
-                                r = arm(s, base, ti.cast(s.Sv[q.body_offset, i], ti.f64))
-                                for d in ti.static(range(dim)):
-                                    s.bodies[base + FORCE + d] += f[d]
-                                if ti.static(dim == 2):
-                                    s.bodies[base + TORQUE + 2] += cross2(r, f)
-                                else:
-                                    torque = r.cross(f)
-                                    for d in ti.static(range(3)):
-                                        s.bodies[base + TORQUE + d] += torque[d]
+                    for i in range(n):
+                        k = s.Si[q.body, i]
+                        if k > 0 and s.Si[q.kind, i] == WALL:
+                            base = (k - 1) * BODY_COLS
+                            f = ti.cast(s.Sv[q.body_force, i], ti.f64)
+                            r = arm(s, base, ti.cast(s.Sv[q.body_offset, i], ti.f64))
+                            for d in ti.static(range(dim)):
+                                s.bodies[base + FORCE + d] += f[d]
+                            if ti.static(dim == 2):
+                                s.bodies[base + TORQUE + 2] += cross2(r, f)
+                            else:
+                                torque = r.cross(f)
+                                for d in ti.static(range(3)):
+                                    s.bodies[base + TORQUE + d] += torque[d]
                     for b in ti.static(range(n_bodies)):
                         base = b * BODY_COLS
                         if ti.static(motions[b] == "floating"):

@@ -77,7 +77,8 @@ class BodyForce:
             for t in ti.static(self.terms):
                 t.pair(s, j, w, rjw, r, grad, rates)
             acc -= s.Ss[q.mass, j] * rates.acc
-        elif s.Si[q.body, j] != s.Si[q.body, w] and r < s.params[self.p_dc] and r > 0.0:
+        elif (s.Si[q.body, j] != s.Si[q.body, w] and r < s.params[self.p_dc] and r > 0.0
+              and s.bodies[(s.Si[q.body, w] - 1) * self.cols + self.motion] == self.floating):
             mine = (s.Si[q.body, w] - 1) * self.cols
             m = s.bodies[mine + self.particle_mass]
             other = s.Si[q.body, j]
