@@ -191,12 +191,9 @@ class RigidBodies(Term):
             offset = ti.cast(s.bodies[base + TABLE_OFFSET], ti.i32)
             length = ti.cast(s.bodies[base + TABLE_LENGTH], ti.i32)
             x = t / s.bodies[base + TABLE_DT]
-            k = ti.min(ti.max(ti.cast(ti.floor(x), ti.i32), 0), length - 1)
+            k = ti.min(ti.max(ti.cast(ti.floor(x), ti.i32), 0), length - 2)  # the last interval ends the table
             frac = ti.min(ti.max(x - k, 0.0), 1.0)
-            settled = k >= length - 1
-            if settled:
-                k = length - 2
-                frac = 1.0
+            settled = x > length - 1  # (at its last time exactly: still its last row's rates)
             row = ti.Vector.zero(ti.f64, n_table)
             for c in ti.static(range(n_table)):
                 a = s.bodies[offset + k * n_table + c]
