@@ -116,9 +116,10 @@ def _nearest(points, others, reach) -> float:
     lo, hi = points.min(axis=0) - reach, points.max(axis=0) + reach
     near = others[np.all((others >= lo) & (others <= hi), axis=1)]
     best = math.inf
-    for chunk in range(0, len(near), 4096):
-        d = np.linalg.norm(points[:, None, :] - near[None, chunk:chunk + 4096, :], axis=2)
-        best = min(best, float(d.min(initial=math.inf)))
+    for a in range(0, len(points), 512):  # blocks of 512 x 4096 pairs: ~50 MB, whatever the sizes
+        for b in range(0, len(near), 4096):
+            d = np.linalg.norm(points[a:a + 512, None, :] - near[None, b:b + 4096, :], axis=2)
+            best = min(best, float(d.min(initial=math.inf)))
     return best
 
 
