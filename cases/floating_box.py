@@ -7,7 +7,7 @@ from taisph.scene.parameters import (ParameterError, checked, end_time, frame_co
                                      known_kernel, lattice_count, one_of, optional, positive, smoothing_factor,
                                      speed_of_sound, viscosity_alpha)
 from taisph.geometry import lattice
-from taisph.probes import elevation
+from taisph.probes import body, elevation
 from taisph.scene.names import UP
 
 from .dam_break import _dam_break
@@ -78,15 +78,9 @@ def floating_box(
     _drop(scene, inside)
     scene.add_body("box", lattice(lo, hi, dx), density=box_density)
     gauge = (0.15 * tank_width,) + (0.5 * tank_width,) * (dim - 2)
-    scene.probes += [_body_probe("box"), elevation("gauge", at=gauge)]
+    scene.probes += [body("box", every=10), elevation("gauge", at=gauge)]
     assert UP == 1
     return scene
-
-
-def _body_probe(name):
-    from taisph.probes import Probe
-
-    return Probe(name=name, kind="body", walls=name, every=10)
 
 
 def _drop(scene, mask):

@@ -8,7 +8,7 @@ import numpy as np
 from taisph.eos import Tait
 from taisph.geometry import lattice
 from taisph.messages import InputError
-from taisph.probes import Probe, elevation
+from taisph.probes import body, elevation
 from taisph.scene import Material, Scene
 from taisph.scene import wave_makers
 from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, end_time, frame_count,
@@ -106,7 +106,7 @@ def wave_flume(
     scene.add_walls(lattice((length, 0.0), (length + pad, top), dx))  # far wall
     piston = lattice((-pad, 0.0), (0.0, top), dx)
     scene.add_body("piston", piston, motion="prescribed", trajectory=motion, axis=(1.0, 0.0), until=t_end)
-    scene.probes += [Probe(name="piston", kind="body", walls="piston", every=10),
+    scene.probes += [body("piston", every=10),
                      *[elevation(f"g{k + 1}", at=(x,), every=10) for k, x in enumerate(GAUGES)]]
     return scene
 

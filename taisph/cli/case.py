@@ -144,7 +144,7 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
                    help="sample a probe into OUT/probes.csv (repeatable): pressure:P1:3.22,0.16 (a point), "
                         "elevation:gauge:0.6:10 (a vertical line at x = 0.6, every 10 steps), force:F:walls "
                         "(all wall particles; a scene file's wall group names), flow:Q:2,0,2,1 (flow rate through the "
-                        "face from (2, 0) to (2, 1)); docs/scenes.md")
+                        "face from (2, 0) to (2, 1)), body:B:box (the state of the body box); docs/scenes.md")
     g.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"], help="Taichi backend (default cpu)")
     g.add_argument("--threads", type=THREADS, help="CPU threads (>= 1; default: all cores)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -214,13 +214,14 @@ def run_case(name: str, argv) -> int:
 def command_line_probes(args, scene, walls) -> list:
     """The ``--probe`` options as probes for `scene`, checked (wall groups, and points
     inside the scene's domain) before anything is compiled or written."""
-    from ..probes import check_inside, parse
+    from ..probes import check_bodies, check_inside, parse
 
     probes = [parse(text, scene.dim) for text in args.probe]
     for p in probes:
         if p.kind == "force" and p.walls not in walls:
             raise UsageError(f"--probe force:{p.name}:{p.walls}: no wall group {p.walls!r}; wall groups: "
                              + (", ".join(walls) or "none"))
+    check_bodies(probes, [b.name for b in scene.bodies], "--probe")  # body:NAME:BODY
     check_inside(probes, scene.domain, "--probe")
     return probes
 

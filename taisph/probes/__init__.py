@@ -1,6 +1,6 @@
 """Probes: pressure at a point, free-surface elevation along a vertical line (a wave
-gauge), the force on a group of wall particles and the volume flow rate through a
-face, sampled during a run.
+gauge), the force on a group of wall particles, the volume flow rate through a
+face and the state of a moving or floating body, sampled during a run.
 
     >>> from taisph.probes import Probes, pressure, elevation, force
     >>> probes = Probes([pressure("P1", at=(3.22, 0.16)), elevation("gauge", at=0.6, every=10),
@@ -51,6 +51,14 @@ driven by a body force the probe's shear force on the walls balances the driving
 force at steady state (tests/test_probes.py); a drag coefficient is the probe on a
 body's wall group divided by 1/2 rho U^2 D.
 
+``body``: the state of a body of the scene (:meth:`taisph.Scene.add_body`) as
+``Simulation.bodies()`` reads it after the step: its reference point (centre of mass of
+a floating body, pivot of a prescribed one), orientation (2D: angle, rad; 3D: unit
+quaternion w, x, y, z), velocity, angular velocity and the force of the fluid (and of
+contacts; not gravity) on it in the step, in the columns of :data:`BODY_COLUMNS`
+(2D: ``NAME_x, NAME_y, NAME_angle, NAME_vx, NAME_vy, NAME_omega, NAME_fx, NAME_fy``).
+No device sums: the body's own record, downloaded.
+
 ``flow`` through a face (a segment in 2D, a rectangle in a coordinate plane in 3D):
 
     Q = sum_k (u(x_k) . n) |face| / K,    u(x) = sum_j v_j V_j W(x - x_j) / phi(x),
@@ -74,10 +82,10 @@ Cost: one kernel launch per sample (the sums of all due probes in one parallel
 loop) and a download of a few numbers per point; measured in docs/scenes.md.
 """
 
-from .spec import (KINDS, OutsideDomainError, Probe, check_inside, elevation, face_points, flow, force, outside,
-                   parse, pressure)
+from .spec import (BODY_COLUMNS, KINDS, OutsideDomainError, Probe, body, check_bodies, check_inside, elevation,
+                   face_points, flow, force, outside, parse, pressure)
 from .writer import ELEVATION_FRACTION, MIN_FLUID_FRACTION, Probes, read_csv, surface_height
 
 __all__ = ["Probe", "Probes", "pressure", "elevation", "force", "read_csv", "surface_height", "KINDS",
            "ELEVATION_FRACTION", "MIN_FLUID_FRACTION", "check_inside", "outside", "OutsideDomainError",
-           "face_points", "flow"]
+           "face_points", "flow", "body", "check_bodies", "BODY_COLUMNS"]

@@ -1,5 +1,5 @@
 """What a probe is: :class:`Probe` (also what a scene file's ``[[probes]]`` become),
-the constructors :func:`pressure`, :func:`elevation`, :func:`force`, :func:`flow`, the points of a
+the constructors :func:`pressure`, :func:`elevation`, :func:`force`, :func:`flow`, :func:`body`, the points of a
 sensor's face (:func:`face_points`) and the one check that its points lie inside the
 scene's domain (:func:`outside`, :func:`check_inside`: the :class:`Probes` writer, the
 command line and scene files all refuse with it). Plain Python and numpy."""
@@ -13,8 +13,13 @@ import numpy as np
 
 from ..messages import InputError
 
-KINDS = ("pressure", "elevation", "force", "flow")
+KINDS = ("pressure", "elevation", "force", "flow", "body")
 FACES = ("pressure", "flow")  # the kinds with points in every dimension (a point or a face)
+POINTLESS = ("force", "body")  # the kinds without points (a wall group, a body)
+# a body probe's columns (after its name and _): its reference point, orientation (2D: angle in rad;
+# 3D: unit quaternion w, x, y, z), velocity, angular velocity (2D: about z) and the fluid's force
+BODY_COLUMNS = {2: ("x", "y", "angle", "vx", "vy", "omega", "fx", "fy"),
+                3: ("x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz", "fx", "fy", "fz")}
 UP = 1  # the vertical axis: y, in 2D and 3D
 
 
@@ -28,8 +33,9 @@ class Probe:
     3D), ``force`` on the wall group `walls` (its name in a scene file, or in Python
     a name the :class:`taisph.probes.Probes` writer is given ids for, or the particle
     ids themselves: a slice, range, boolean mask or integer array), ``flow`` (volume
-    flow rate) through the face from `at` to `to` (:func:`flow`); taken every `every`
-    steps."""
+    flow rate) through the face from `at` to `to` (:func:`flow`), ``body``: the state of
+    the body `body` (its name in the scene, :meth:`taisph.Scene.add_body`; default: the
+    probe's name), :func:`body`; taken every `every` steps."""
 
     name: str
     kind: str
@@ -37,9 +43,18 @@ class Probe:
     walls: object = None
     every: int = 1
     to: tuple | None = None
+    body: str | None = None
+
+    @property
+    def target(self) -> str:
+        """The body a body probe samples: `body`, else its name."""
+        return self.name if self.body is None else self.body
 
     def columns(self, dim: int) -> list:
-        """Its columns in probes.csv: the name, or ``name_x, name_y(, name_z)`` for a force."""
+        """Its columns in probes.csv: the name; ``name_x, name_y(, name_z)`` for a force;
+        ``name_x, name_y, name_angle, ...`` for a body (:data:`BODY_COLUMNS`)."""
+        if self.kind == "body":
+            return [f"{self.name}_{c}" for c in BODY_COLUMNS[dim]]
         return [f"{self.name}_{a}" for a in "xyz"[:dim]] if self.kind == "force" else [self.name]
 
     def check(self, dim: int):
@@ -54,6 +69,12 @@ class Probe:
         if self.kind == "force":
             if self.walls is None:
                 raise InputError(f"probe {self.name!r}: a force probe needs walls (a wall group)")
+            return
+        if self.kind == "body":
+            if not (isinstance(self.target, str) and self.target):
+                raise InputError(f"probe {self.name!r}: body = {self.body!r}; a body probe names a body of the scene")
+            if dim not in BODY_COLUMNS:
+                raise InputError(f"probe {self.name!r}: bodies need a 2D or 3D scene")
             return
         n = dim if self.kind in FACES else dim - 1
         if self.kind == "flow" and self.to is None:
@@ -132,6 +153,25 @@ def force(name: str, walls, every: int = 1) -> Probe:
     return Probe(name, "force", walls=walls, every=every)
 
 
+def body(name: str, body: str | None = None, every: int = 1) -> Probe:
+    """The state of the body `body` (default: the body named `name`) of the scene
+    (:meth:`taisph.Scene.add_body`): its position, orientation, velocity, angular
+    velocity and the fluid's force on it, as ``Simulation.bodies()`` has them after the
+    step, in the columns :data:`BODY_COLUMNS` (``box_x, box_y, box_angle, ...``)."""
+    return Probe(name, "body", body=body, every=every)
+
+
+def check_bodies(probes, bodies, source: str | None = None):
+    """Refuse (InputError) the first body probe of `probes` whose body is not among the
+    names `bodies`: ``[SOURCE: ]probe 'P': no body 'B'; the scene's bodies: a, b``."""
+    bodies = list(bodies)
+    for p in probes:
+        if p.kind == "body" and p.target not in bodies:
+            prefix = f"{source}: " if source else ""
+            raise InputError(f"{prefix}probe {p.name!r}: no body {p.target!r}; the scene's bodies: "
+                             f"{', '.join(bodies) or 'none (Scene.add_body, [[bodies]] in a scene file)'}")
+
+
 def face_points(at, to, spacing: float) -> np.ndarray:
     """The points a sensor's face from `at` to `to` is sampled at, each standing for an
     equal part of it (the probe reads their mean).
@@ -172,10 +212,10 @@ def outside(probe: Probe, domain):
     """The first of `probe`'s points (``at``, then ``to``) with a coordinate outside
     the box `domain` = ``(lo, hi)`` (bounds included): ``(key, problem)``, e.g.
     ``("at", "x = 5 is outside the domain (-0.16 .. 1.16)")``; None if all lie inside
-    or it has no point (force). A pressure point has a coordinate per axis, an
+    or it has no point (force, body). A pressure point has a coordinate per axis, an
     elevation probe's line the horizontal ones. The one rule for the probes of the
     command line, of scene files and of :class:`taisph.probes.Probes`."""
-    if probe.kind == "force":
+    if probe.kind in POINTLESS:
         return None
     lo, hi = (np.asarray(v, float).reshape(-1) for v in domain)
     axes = range(len(lo)) if probe.kind in FACES else [a for a in range(len(lo)) if a != UP]
@@ -206,11 +246,13 @@ def parse(text: str, dim: int) -> Probe:
     ``pressure:P1:3.22,0.16`` (a point), ``elevation:gauge:0.6:10`` (the vertical line at
     x = 0.6, every 10 steps), ``force:F:walls`` (a wall group: ``walls``, all wall
     particles of a case, or a scene file's group name), ``flow:Q:2,0,2,1`` (the face
-    from (2, 0) to (2, 1): `at` then `to`). InputError (a ValueError) naming the text."""
+    from (2, 0) to (2, 1): `at` then `to`), ``body:box:box:10`` (the body ``box``, its
+    columns ``box_x``...). InputError (a ValueError) naming the text."""
     parts = text.split(":")
     if len(parts) not in (3, 4) or parts[0] not in KINDS or not parts[1]:
         raise InputError(f"--probe {text}: expected KIND:NAME:WHERE[:EVERY], KIND one of {', '.join(KINDS)} "
-                         "(e.g. pressure:P1:3.22,0.16, elevation:gauge:0.6:10, force:F:walls, flow:Q:2,0,2,1)")
+                         "(e.g. pressure:P1:3.22,0.16, elevation:gauge:0.6:10, force:F:walls, flow:Q:2,0,2,1, "
+                         "body:box:box)")
     kind, name, where = parts[:3]
     every = 1
     if len(parts) == 4:
@@ -220,6 +262,8 @@ def parse(text: str, dim: int) -> Probe:
             every = parts[3]
     if kind == "force":
         probe = Probe(name, kind, walls=where, every=every)
+    elif kind == "body":
+        probe = Probe(name, kind, body=where, every=every)
     else:
         try:
             at = tuple(float(v) for v in where.split(","))

@@ -14,7 +14,7 @@ from ..messages import InputError
 from ..engine.integrators import PredictorCorrector
 from ..engine.layout import WALL
 from .device import Sampler
-from .spec import UP, Probe, check_inside, face_normal, face_points
+from .spec import UP, Probe, check_bodies, check_inside, face_normal, face_points
 
 ELEVATION_FRACTION = 0.5  # the free surface: where the fluid fraction phi falls through 1/2
 MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a corner has 1/4; taisph.probes)
@@ -44,7 +44,14 @@ class Probes:
     probes' own; a probe is sampled when its own ``every`` divides the steps since
     the run started, else its cell of that row is empty. Results: :attr:`times` (s),
     :attr:`values` ({name: array}, NaN where no value or not sampled; a force is
-    (N, dim)), :meth:`series` (one probe's own samples), :meth:`columns` (the CSV's).
+    (N, dim), a body (N, columns): :data:`taisph.probes.spec.BODY_COLUMNS`),
+    :meth:`series` (one probe's own samples), :meth:`columns` (the CSV's).
+
+    A ``body`` probe reads ``sim.bodies()`` (:class:`taisph.run.readout.BodyState`) when
+    the sample is taken: the body's state after the step, and the fluid's force on it
+    in that step. (With the Euler-type integrators a row is labelled with the step's
+    start, the state the other probes read: the body's columns are then one step later.)
+    A body probe naming a body the scene does not have is refused when the run starts.
     """
 
     def __init__(self, probes, walls=None, path=None, min_fluid_fraction: float = MIN_FLUID_FRACTION,
@@ -96,6 +103,7 @@ class Probes:
         for p in self.probes:
             p.check(dim)
         check_inside(self.probes, sim.scene.domain)  # before the first step: nothing sampled, no file
+        check_bodies(self.probes, [b.name for b in getattr(sim.scene, "bodies", ())])
         kinds = sim.scene.kind
         points, self._slices, groups, self._normals = [], {}, [], {}
         lo, hi = (np.asarray(v, float) for v in sim.scene.domain)
@@ -114,6 +122,8 @@ class Probes:
                     x = list(p.at)
                     x.insert(UP, y)
                     points.append(np.asarray(x, float))
+            elif p.kind == "body":
+                continue
             else:
                 ids = self.walls.get(p.walls) if isinstance(p.walls, str) else p.walls
                 if ids is None:
@@ -127,7 +137,8 @@ class Probes:
                 groups.append(index)
                 continue
             self._slices[p.name] = slice(start, len(points))
-        self._sampler = Sampler(sim, np.reshape(points, (-1, dim)), groups)
+        # (no sampler without points or wall groups: body probes read the host's sim.bodies())
+        self._sampler = Sampler(sim, np.reshape(points, (-1, dim)), groups) if points or groups else None
         self._time_lags = not isinstance(sim.solver.integrator, PredictorCorrector)
         self.sim = sim
         if self.path is not None:
@@ -139,7 +150,8 @@ class Probes:
             self._file.flush()
 
     def columns(self) -> list:
-        """The CSV's value columns (after ``time``): one per probe, x/y(/z) per force."""
+        """The CSV's value columns (after ``time``): one per probe, x/y(/z) per force, a body's
+        (:meth:`taisph.probes.Probe.columns`)."""
         dim = self.sim.dim if self.sim is not None else None
         return [c for p in self.probes for c in (p.columns(dim) if dim else [p.name])]
 
@@ -157,19 +169,21 @@ class Probes:
             return
         due = {p.name for p in probes}
         sampler = self._sampler
-        points = np.zeros(sampler.n_points, bool)
-        groups = np.zeros(sampler.n_groups, bool)
+        points = np.zeros(sampler.n_points if sampler else 0, bool)
+        groups = np.zeros(sampler.n_groups if sampler else 0, bool)
         for p in self.probes:
-            if p.name in due:
+            if p.name in due and p.kind != "body":
                 if p.kind == "force":
                     groups[self._slices[p.name]] = True
                 else:
                     points[self._slices[p.name]] = True
-        phi, pi, u, forces = sampler.sums(points, groups, time)
+        if points.any() or groups.any():
+            phi, pi, u, forces = sampler.sums(points, groups, time)
+        bodies = sim.bodies() if any(p.kind == "body" and p.name in due for p in self.probes) else {}
         row, taken = [], []
         for p in self.probes:
             taken.append(p.name in due)
-            width = sim.dim if p.kind == "force" else 1
+            width = self._width(p)
             if p.name not in due:
                 row += [math.nan] * width
             elif p.kind == "pressure":
@@ -185,6 +199,8 @@ class Probes:
                 normal, measure = self._normals[p.name]
                 un = np.where(wet, (u[part] @ normal) / np.where(wet, phi[part], 1.0), 0.0)  # dry: no flow
                 row.append(float(un.sum() * measure / len(un)))
+            elif p.kind == "body":
+                row += body_row(bodies[p.target])
             else:
                 row += list(forces[self._slices[p.name]])
         self._times.append(time)
@@ -196,12 +212,16 @@ class Probes:
     def _write(self, time, row, taken):
         cells, k = [repr(float(time))], 0
         for p, was_taken in zip(self.probes, taken):
-            width = self.sim.dim if p.kind == "force" else 1
+            width = self._width(p)
             for v in row[k : k + width]:
                 cells.append(("nan" if math.isnan(v) else f"{v:.10g}") if was_taken else "")
             k += width
         self._file.write(",".join(cells) + "\n")  # one write of the whole line, then flush
         self._file.flush()
+
+    def _width(self, p) -> int:
+        """How many columns probe `p` has (1, or a force's or a body's several)."""
+        return len(p.columns(self.sim.dim)) if p.kind in ("force", "body") else 1
 
     def close(self):
         """Close the CSV file (rows are flushed as they are written; this only frees it)."""
@@ -226,12 +246,13 @@ class Probes:
 
     @property
     def values(self) -> dict:
-        """{probe name: samples}, aligned with :attr:`times`; a force probe's are (N, dim)."""
+        """{probe name: samples}, aligned with :attr:`times`; a force probe's are (N, dim),
+        a body probe's (N, its columns: ``Probe.columns(dim)`` without the name)."""
         table = np.asarray(self._rows, float).reshape(len(self._rows), -1)
         out, k = {}, 0
         for p in self.probes:
-            width = self.sim.dim if p.kind == "force" else 1
-            out[p.name] = table[:, k : k + width] if p.kind == "force" else table[:, k]
+            width = self._width(p)
+            out[p.name] = table[:, k : k + width] if p.kind in ("force", "body") else table[:, k]
             k += width
         return out
 
@@ -240,6 +261,14 @@ class Probes:
         index = [p.name for p in self.probes].index(name)
         taken = np.asarray(self._taken, bool).reshape(len(self._taken), -1)[:, index]
         return self.times[taken], self.values[name][taken]
+
+
+def body_row(state) -> list:
+    """A :class:`taisph.run.readout.BodyState` as a body probe's values, in the order of
+    :data:`taisph.probes.spec.BODY_COLUMNS`: position, orientation, velocity, angular
+    velocity, force."""
+    parts = (state.position, state.orientation, state.velocity, state.angular_velocity, state.force)
+    return [float(v) for part in parts for v in np.atleast_1d(np.asarray(part, float))]
 
 
 def surface_height(heights, phi, fraction: float = ELEVATION_FRACTION) -> float:

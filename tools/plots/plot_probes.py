@@ -25,19 +25,32 @@ import numpy as np
 from taisph.probes import read_csv
 
 
+# a body probe's columns (taisph.probes.BODY_COLUMNS) in panels by unit: the panel's label, the columns' endings
+BODY_PANELS = (("position (m)", ("x", "y", "z")), ("orientation", ("angle", "qw", "qx", "qy", "qz")),
+               ("velocity (m/s, rad/s)", ("vx", "vy", "vz", "omega", "wx", "wy", "wz")),
+               ("force (N)", ("fx", "fy", "fz")))
+
+
 def kinds(columns):
-    """Group CSV columns by what they measure: forces (name_x, name_y(, name_z)) by
+    """Group CSV columns by what they measure: a body probe's (name_angle or name_qw
+    among them) by body into :data:`BODY_PANELS`; forces (name_x, name_y(, name_z)) by
     name; the rest by unit as the header cannot tell pressure from elevation: a column
     whose values stay below 100 is taken for an elevation (m)."""
     forces, scalars = {}, []
     names = list(columns)
+    bodies = {c.rpartition("_")[0] for c in names if c.endswith(("_angle", "_qw"))}
+    body_panels = [(f"{b} {label}", [f"{b}_{e}" for e in endings if f"{b}_{e}" in names])
+                   for b in sorted(bodies) for label, endings in BODY_PANELS]
+    taken = {c for _, cols in body_panels for c in cols}
     for c in names:
+        if c in taken:
+            continue
         base, _, axis = c.rpartition("_")
         if axis in ("x", "y", "z") and f"{base}_x" in names and f"{base}_y" in names:
             forces.setdefault(base, []).append(c)
         else:
             scalars.append(c)
-    return forces, scalars
+    return forces, scalars, body_panels
 
 
 def main(argv=None) -> int:
@@ -70,7 +83,7 @@ def main(argv=None) -> int:
             print(f"plot_probes: none of {args.only} in {csv_path} (columns: {', '.join(read_csv(csv_path))})",
                   file=sys.stderr)
             return 2
-    forces, scalars = kinds(data)
+    forces, scalars, body_panels = kinds(data)
     if args.buchner:
         from taisph.validation.buchner import PROBES
 
@@ -86,7 +99,7 @@ def main(argv=None) -> int:
         panels = []
     metres = [c for c in scalars if np.nanmax(np.abs(data[c]), initial=0.0) < 100.0]
     pascals = [c for c in scalars if c not in metres]
-    panels += [("pressure", pascals), ("elevation", metres)] + [("force", [name]) for name in forces]
+    panels += [("pressure", pascals), ("elevation", metres)] + [("force", [name]) for name in forces] + body_panels
     panels = [(kind, cols) for kind, cols in panels if cols]
     heights = [4.0 if kind in ("buchner", "kleefsman") else 2.8 for kind, _ in panels]
     fig, axes = plt.subplots(len(panels), 1, figsize=(9, sum(heights)), squeeze=False,
@@ -102,7 +115,7 @@ def main(argv=None) -> int:
             for column in forces.get(c, [c]):
                 taken = ~np.isnan(data[column]) | (kind == "pressure")  # keep gaps where a point is dry
                 ax.plot(t[taken], data[column][taken], lw=0.8, label=column)
-        ax.set_ylabel({"pressure": "p (Pa)", "elevation": "surface (m)", "force": "force (N)"}[kind])
+        ax.set_ylabel({"pressure": "p (Pa)", "elevation": "surface (m)", "force": "force (N)"}.get(kind, kind))
         ax.set_xlabel("t (s)")
         ax.legend(fontsize=8, loc="best")
         ax.grid(alpha=0.3)
