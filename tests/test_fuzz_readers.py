@@ -487,7 +487,8 @@ def particle_estimate(spec) -> float:
     """The particles a checked spec's blocks hold: the reader's own memory estimate."""
     layers = scenefile_spec.wall_layers_needed(spec) * spec.dx
     filled = [(b, spec.dx, 0.0) for b in spec.fluid] + [
-        (b, spec.dx / 2.0, 0.0) if b.model == "lj" else (b, spec.dx, 2.0 * layers) for b in spec.walls]
+        (b, spec.dx / 2.0, 0.0) if b.model == "lj" else (b, spec.dx, 2.0 * layers) for b in spec.walls] + [
+        (b, spec.dx, 0.0) for b in spec.bodies or ()]  # a body: its shape filled on the lattice
     return sum(math.prod(float(hi - lo + pad) / spacing + 1.0 for lo, hi in zip(*b.bounds))
                for b, spacing, pad in filled)
 

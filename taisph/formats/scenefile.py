@@ -12,7 +12,9 @@ hydrostatic equilibrium (at ``pressure`` at their top: particles dx^dim of fluid
 pressure), Morris laminar viscosity on request (``physics.nu``, with the dummy walls'
 no-slip velocity). Fluids of different reference densities use the sharp-interface
 terms of ``cases/two_fluids.py``. Open boundaries (``[[open_boundaries]]``,
-:mod:`.scenefile_open`) are added after the fluid and the walls, as ``cases/channel.py`` does.
+:mod:`.scenefile_open`) are added after the fluid and the walls, as ``cases/channel.py`` does,
+and so are bodies (``[[bodies]]``, :mod:`.scenefile_bodies`: a shape filled with dummy-wall
+particles on the lattice, moving as one; a scene with bodies and no walls has dummy walls).
 
 Walls are tanks or obstacles (``kind``). A tank (a box) holds the fluid: its wall layers
 lie outside the box, and an open top is an open face of the domain (water may fly up
@@ -37,7 +39,7 @@ from ..scene import catalogue, water
 from ..scene.model import Material, Scene
 from ..scene.names import UP
 from ..scene.parameters import checked
-from . import scenefile_open
+from . import scenefile_bodies, scenefile_open
 from .scenefile_spec import Probe  # noqa: F401  (what [[probes]] become, for users of this module)
 from .scenefile_spec import RANGES, SceneFileError, SceneSpec, default_domain, read, wall_layers_needed
 
@@ -47,8 +49,8 @@ class RunSettings:
     """What a scene file asks of the run besides the scene: end time, frames, the
     solver, the Courant number (None: the default) and the other run controls the file
     sets (``controls``: dt_max, dfsph_tolerance...), the probes, and the particles of
-    each wall group (``name -> slice`` of the scene's particle arrays, for force
-    probes); `notes`: a line per wall group for the run's header (its kind, its
+    each wall group (``name -> slice`` of the scene's particle arrays, a body's ids:
+    for force probes); `notes`: a line per wall group for the run's header (its kind, its
     particles and, for an obstacle, the fluid particles it removed). `frames` may be 0
     (the initial frame only); the scene's ``frames`` is then 1, as Simulation.run needs."""
 
@@ -110,6 +112,8 @@ def build(spec: SceneSpec):
                                  "smaller")
         groups[block.name] = scene.add_walls(points)
         notes.append(_wall_note(spec, block, groups[block.name], removed.get(block.name, 0)))
+    for block in spec.bodies or ():  # after the fluid and the walls, which it must not overlap; a wall group too
+        groups[block.name] = scenefile_bodies.add(spec, scene, block, _body_points(spec, block), SceneFileError)
     for zone in spec.open_boundaries or ():  # after the fluid (its face must border it) and the walls
         scenefile_open.add(spec, scene, zone, SceneFileError)
     _check_grid(spec, scene)
@@ -145,7 +149,7 @@ def _check_grid(spec, scene):
 _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].model", "gravity": "physics.gravity",
               "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
               "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation",
-              "laminar_viscosity": "physics.nu", "open_boundaries": "open_boundaries"}
+              "laminar_viscosity": "physics.nu", "open_boundaries": "open_boundaries", "rigid_bodies": "bodies"}
 
 
 def _validate(spec, scene):
@@ -170,7 +174,7 @@ def _validate(spec, scene):
         values = {"walls[0].model": spec.wall_model, "physics.gravity": list(spec.gravity), "physics.alpha": spec.alpha,
                   "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
                   "physics.formulation": spec.formulation, "physics.nu": spec.nu,
-                  "open_boundaries": [z.name for z in spec.open_boundaries or ()],
+                  "open_boundaries": [z.name for z in spec.open_boundaries or ()], "bodies": [b.name for b in spec.bodies or ()],
                   "materials": [m["name"] for m in spec.materials]}
         raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
 
@@ -311,6 +315,14 @@ def _check_tank(spec, wall, fluid):
         raise SceneFileError(f"{value}: a tank (its wall layers outside the box) with no fluid in it"
                              + (" or above it" if wall.open_top else "") + f"; {obstacle}; for an empty tank, "
                              'kind = "tank"')
+
+
+def _body_points(spec, block):
+    """A body's particles: the lattice points in its box (the cells whose centres lie in
+    it, as a fluid box's) or inside its surface: a solid body, on the fluid's lattice."""
+    if block.box is not None:
+        return box_cells(*block.box, spec.dx, scene_origin(spec))
+    return volume_points(block.surface, spec.dx, origin=scene_origin(spec))
 
 
 def _wall_points(spec, block):

@@ -22,39 +22,40 @@ from ..engine import smoothing, timestep
 from ..engine.dfsph import pairs
 from ..geometry.mesh import MeshError, load_surface
 from ..messages import InputError
-from ..probes.spec import FACES, KINDS, Probe, face_problem, outside  # noqa: F401  (Probe: what [[probes]] become)
+from ..probes.spec import Probe  # noqa: F401  (what [[probes]] become)
 from ..scene.names import UP, default_formulation
 from ..scene.parameters import (BYTES_PER_PARTICLE, Range, between, courant_number, diffusion_delta, end_time, finite,
                                 gravity_component, integer, known_formulation, known_integrator, known_kernel, known_solver,
-                                memory_shortage, one_of, output_frames, positive, reference_density, smoothing_factor,
+                                memory_shortage, Number, one_of, output_frames, particle_spacing, position_component, positive, reference_density, smoothing_factor,
                                 speed_of_sound, tait_exponent, velocity_component, viscosity_alpha, xsph_epsilon)
 from .scenefile_open import MISSING as _MISSING, zones as open_boundaries  # [[open_boundaries]]
+from .scenefile_bodies import blocks as bodies  # [[bodies]]
+from .scenefile_probes import PROBE_KEYS, RANGES as PROBE_RANGES, probes  # noqa: F401  [[probes]] (PROBE_KEYS: the schema)
 
 WALL_KINDS = ("tank", "obstacle")  # a tank holds fluid (wall layers outside its box); an obstacle is solid
 
 # The allowed values of each key, declared once in taisph.scene.parameters (the cases' and the command
 # line's ranges for the same quantities): a value out of range is refused in the same words everywhere.
 RANGES = {
-    "dim": integer(at_least=2, at_most=3), "dx": positive, "t_end": end_time, "frames": output_frames,
+    "dim": integer(at_least=2, at_most=3), "dx": Number(0, particle_spacing.high, low_open=True), "t_end": end_time, "frames": output_frames,
     "solver": known_solver, "kernel": known_kernel, "integrator": known_integrator, "h_factor": smoothing_factor,
     "dt": positive, "courant": courant_number, "physics.gravity": gravity_component, "physics.alpha": viscosity_alpha,
     "physics.delta": diffusion_delta, "physics.xsph": xsph_epsilon, "rho0": reference_density, "c0": speed_of_sound,
     "gamma": tait_exponent, "velocity": velocity_component, "scale": positive, "model": one_of("dummy", "lj"),
-    "kind": one_of(*KINDS), "every": integer(at_least=1), "walls.kind": one_of(*WALL_KINDS),
+    "kind": PROBE_RANGES["kind"], "every": PROBE_RANGES["every"], "walls.kind": one_of(*WALL_KINDS),
     "physics.formulation": known_formulation, "physics.nu": between(0, 100), "pressure": between(0, 1e9)}
 # The values of the keys a file may leave out (gravity: (0, -9.81) or (0, -9.81, 0))
 DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1, "physics.delta": 0.1,
             "physics.xsph": 0.0, "physics.nu": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor", "dt",
-            "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", "open_boundaries",
+            "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", "open_boundaries", "bodies",
             *timestep.SETTABLE}
 PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation", "nu"}
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic", "pressure"}
 WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "kind", "open_top"}
-PROBE_KEYS = {"name", "kind", "at", "to", "walls", "every"}
 
 
 class SceneFileError(InputError):
@@ -118,6 +119,7 @@ class SceneSpec:
     multiphase: bool = False  # fluids of different rho0: the sharp-interface terms
     formulation: str = "symmetric"  # names.FORMULATIONS: "symmetric" or "riemann" (alpha and delta then default to 0)
     open_boundaries: list | None = None  # of scenefile_open.Zone
+    bodies: list | None = None  # of scenefile_bodies.BodyBlock
 
 
 def read(path, overrides: dict | None = None) -> SceneSpec:
@@ -157,8 +159,8 @@ def wall_layers_needed(spec: SceneSpec) -> int:
 
 def default_domain(spec: SceneSpec):
     """The box around all blocks, grown by the wall layers and dx, half the height again above (as the cases)."""
-    lo = np.min([b.bounds[0] for b in spec.fluid + spec.walls], axis=0)
-    hi = np.max([b.bounds[1] for b in spec.fluid + spec.walls], axis=0)
+    blocks = spec.fluid + spec.walls + (spec.bodies or [])
+    lo, hi = np.min([b.bounds[0] for b in blocks], axis=0), np.max([b.bounds[1] for b in blocks], axis=0)
     pad = (wall_layers_needed(spec) + 1) * spec.dx
     top = np.eye(spec.dim)[UP] * 0.5 * (hi[UP] - lo[UP])
     return lo - pad, hi + pad + top
@@ -259,7 +261,7 @@ class _Checker:
             if w.model != spec.walls[0].model:
                 self.fail(f"walls[{k}].model", w.model, f"all wall groups need one model (walls[0] is "
                           f"{spec.walls[0].model!r}): the wall terms act on every wall particle")
-        spec.wall_model = spec.walls[0].model if spec.walls else None
+        spec.wall_model = spec.walls[0].model if spec.walls else ("dummy" if data.get("bodies") else None)  # bodies: dummy walls
         self.memory(spec)
         used = sorted({b.material for b in spec.fluid})
         spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1
@@ -270,8 +272,9 @@ class _Checker:
         if spec.formulation == "riemann":  # its own dissipation: alpha and delta only where the file sets them
             spec.alpha, spec.delta = (spec.alpha if "alpha" in physics else 0.0), (spec.delta if "delta" in physics else 0.0)
         spec.domain = self.box("domain", data["domain"], dim) if "domain" in data else None
+        spec.bodies = bodies(self, self.entries("bodies", data), spec, [w.name for w in spec.walls])
         lo, hi = spec.domain or default_domain(spec)
-        spec.probes = self.probes(self.entries("probes", data), spec, lo, hi)
+        spec.probes = probes(self, self.entries("probes", data), spec, lo, hi)
         spec.open_boundaries = open_boundaries(self, self.entries("open_boundaries", data), spec, names)
         return spec
 
@@ -305,7 +308,10 @@ class _Checker:
         count = sum(math.prod(float(hi - lo + pad) / spacing + 1.0 for lo, hi in zip(*b.bounds))
                     for b, spacing, pad in filled)
         support = smoothing.KERNELS[spec.kernel].support * spec.h_factor * spec.dx  # entries: a power of 2 (fields)
-        entries = 1 << math.ceil(math.log2(pairs.capacity(SimpleNamespace(support_radius=support, dim=spec.dim, dx=spec.dx))))
+        try:
+            entries = 1 << math.ceil(math.log2(pairs.capacity(SimpleNamespace(support_radius=support, dim=spec.dim, dx=spec.dx))))
+        except (OverflowError, ZeroDivisionError, ValueError):  # dx = 1e300, 5e-324: refused by the count or the fill
+            entries = 1
         per = BYTES_PER_PARTICLE + (pairs.bytes_per_particle(entries, 8) if spec.solver == "dfsph" else 0)
         problem = memory_shortage(count, per)
         if problem:
@@ -354,7 +360,7 @@ class _Checker:
                 self.fail(f"{key}.polygon", value, "a polygon is 2D; in 3D use mesh = \"file\"")
             if not (isinstance(value, list) and len(value) >= 3):
                 self.fail(f"{key}.polygon", value, "expected a list of at least 3 [x, y] vertices")
-            source = [self.vector(f"{key}.polygon[{k}]", v, 2) for k, v in enumerate(value)]
+            source = [self.vector(f"{key}.polygon[{k}]", v, 2, position_component) for k, v in enumerate(value)]
             name = "polygon"
         else:
             self.text(f"{key}.mesh", value)
@@ -365,35 +371,3 @@ class _Checker:
             self.fail(f"{key}.{shape}", value if shape == "mesh" else "[...]",
                       str(err) if shape == "mesh" else str(err).split(": ", 1)[1])
         return surface.transformed(scale, translate)
-
-    def probes(self, entries, spec, lo, hi):
-        out, names = [], {}
-        groups = [w.name for w in spec.walls]
-        for k, p in enumerate(entries):
-            key = f"probes[{k}]"
-            self.keys(key, p, PROBE_KEYS)
-            name = self.text(f"{key}.name", p.get("name", _MISSING))
-            if name in names:
-                self.fail(f"{key}.name", name, f"already the name of probes[{names[name]}]")
-            names[name] = k
-            kind = self.choice(f"{key}.kind", p.get("kind", _MISSING), RANGES["kind"])
-            probe = Probe(name, kind, every=self.number(f"{key}.every", p.get("every", DEFAULTS["every"]), RANGES["every"]))
-            needs, face = ("walls" if kind == "force" else "at"), kind in FACES  # faces: at and to (flow: both)
-            for extra in sorted({"at", "to", "walls"} - {needs} - ({"to"} if face else set())):
-                if extra in p:
-                    self.fail(f"{key}.{extra}", p[extra], f"a {kind} probe takes {needs}{' (and to)' * face}, not {extra}")
-            if kind == "force":
-                probe.walls = self.text(f"{key}.walls", p.get("walls", _MISSING))
-                if probe.walls not in groups:
-                    self.fail(f"{key}.walls", probe.walls, f"no wall group of that name; wall groups: {', '.join(groups) or 'none'}")
-            else:
-                axes = list(range(spec.dim)) if face else [a for a in range(spec.dim) if a != UP]
-                for point in ("at", "to") if "to" in p or kind == "flow" else ("at",):
-                    setattr(probe, point, self.vector(f"{key}.{point}", p.get(point, _MISSING), len(axes)))
-                if kind == "flow" and (bad := face_problem(probe.at, probe.to, spec.dim)):
-                    self.fail(f"{key}.to", p["to"], bad)
-                if (bad := outside(probe, (lo, hi))) is not None:  # the one rule of every probe
-                    self.fail(f"{key}.{bad[0]}", p[bad[0]], bad[1])
-            out.append(probe)
-        return out
-
