@@ -15,7 +15,7 @@ DRIVEN = "driven along x"  # a channel flow set going along +x (by a body force 
 FREE = "free"  # no external force: total momentum stays zero (pairwise forces)
 BEHAVIOUR = {
     "dam_break": FALLS, "dam_break_3d": FALLS, "dam_break_wedge": FALLS, "drop_on_incline": FALLS,
-    "two_fluids": FALLS, "hydrostatic_tank": STILL, "floating_box": STILL, "wave_flume": STILL, "poiseuille": DRIVEN, "couette": DRIVEN,
+    "two_fluids": FALLS, "hydrostatic_tank": STILL, "floating_box": STILL, "wave_flume": STILL, "solitary_wave": STILL, "water_entry": STILL, "poiseuille": DRIVEN, "couette": DRIVEN,
     "channel": DRIVEN, "cylinder": DRIVEN,
     "elliptical_drop": FREE, "sedov": FREE, "sod": FREE, "taylor_green": FREE,
 }
