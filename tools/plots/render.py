@@ -4,7 +4,8 @@
 
 Reads the .pvd index and the .vtu frames with meshio, picks the frames nearest to the
 requested times, and draws particles (2D: x-y; 3D: x-y projection) coloured by a
-point array (vectors by their length), with the walls in grey.
+point array (vectors by their length), with the walls in grey and moving or floating
+bodies in dark grey.
 """
 
 import argparse
@@ -41,6 +42,7 @@ def main(argv=None):
     entries = read_pvd(pvd)
     frames = [(t, f) for t, part, f in entries if part == 0]
     walls = sorted({f for _, part, f in entries if part == 1})
+    bodies = {t: f for t, part, f in entries if part == 2}  # moving and floating bodies, every frame
     times = args.times or [frames[int(k)][0] for k in np.linspace(0, len(frames) - 1, 4)]
     chosen = [min(frames, key=lambda e: abs(e[0] - t)) for t in times]
     wall_points = meshio.read(args.folder / walls[0]).points if walls else None
@@ -53,6 +55,9 @@ def main(argv=None):
         c = _magnitude(mesh.point_data[args.color])
         if wall_points is not None:
             ax.scatter(wall_points[:, 0], wall_points[:, 1], s=0.5, c="0.6", linewidths=0)
+        if t in bodies:
+            b = meshio.read(args.folder / bodies[t]).points
+            ax.scatter(b[:, 0], b[:, 1], s=0.8, c="0.25", linewidths=0)
         sc = ax.scatter(x[:, 0], x[:, 1], s=1.5, c=c, cmap="viridis", vmin=vmin, vmax=vmax, linewidths=0)
         ax.set_aspect("equal")
         ax.set_title(f"t = {t:.3g} s")
