@@ -112,8 +112,12 @@ def wave_flume(
 
 
 def expected(depth=0.5, height=0.04, period=1.5, g=9.81) -> dict:
-    """First-order theory's numbers for the flume: wavenumber, wavelength, kh, H/S, stroke."""
+    """First-order theory's numbers for the flume: wavenumber k, wavelength, kh, H/S, the
+    piston's stroke, the phase speed c and the group speed c_g = c (1 + 2kh / sinh 2kh) / 2
+    (Dean & Dalrymple 1991, ch. 4)."""
     k = wave_makers.wavenumber(period, depth, g)
-    ratio = wave_makers.piston_transfer(k * depth)
-    return dict(k=k, wavelength=2 * math.pi / k, kh=k * depth, ratio=ratio, stroke=height / ratio,
-                celerity=2 * math.pi / k / period)
+    kh = k * depth
+    ratio = wave_makers.piston_transfer(kh)
+    celerity = 2 * math.pi / k / period
+    return dict(k=k, wavelength=2 * math.pi / k, kh=kh, ratio=ratio, stroke=height / ratio, celerity=celerity,
+                group=0.5 * celerity * (1 + 2 * kh / math.sinh(2 * kh)))

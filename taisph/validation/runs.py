@@ -72,12 +72,13 @@ class _Runner:
         self.wall = 0.0
         self.diverged = False
 
-    def advance(self, t: float) -> bool:
-        """Run to time t; False (and diverged) if the state is no longer finite."""
+    def advance(self, t: float, writers=()) -> bool:
+        """Run to time t (with `writers`, e.g. probes); False (and diverged) if the state is
+        no longer finite."""
         if self.diverged:
             return False
         if t > self.sim.time:
-            self.wall += self.sim.run(t, frames=1).wall_time
+            self.wall += self.sim.run(t, frames=1, writers=writers).wall_time
         x, v = self.sim.positions(), self.sim.velocities()
         if not (np.isfinite(x).all() and np.isfinite(v).all() and np.isfinite(self.sim.density()).all()):
             self.diverged = True
@@ -332,6 +333,14 @@ def scene_of(case: str, params: dict):
     return load(scene_file(), {"dx": params.get("dx", 0.02), **overrides})[0]
 
 
+def wave_flume(precision=None, **params) -> Outcome:
+    """The piston wave maker's regular waves against first-order theory
+    (:func:`taisph.validation.waves.wave_flume`)."""
+    from .waves import wave_flume as validate
+
+    return validate(_Runner("wave_flume", params, precision), params)
+
+
 VALIDATIONS = {
     "dam_break": dam_break,
     "dam_break_pressure": dam_break_pressure,
@@ -340,6 +349,7 @@ VALIDATIONS = {
     "couette": couette,
     "taylor_green": taylor_green,
     "elliptical_drop": elliptical_drop,
+    "wave_flume": wave_flume,
 }
 
 

@@ -1,0 +1,73 @@
+"""Reading regular waves off wave gauges (taisph/validation/waves.py): on an exact
+progressive wave the height, phase and wavelength come back to the sampling's accuracy,
+and the reading window starts after the ramped train's full part arrives and ends before
+the far wall's reflection returns."""
+
+import math
+
+import numpy as np
+import pytest
+
+from taisph.cases.wave_flume import expected
+from taisph.validation import waves
+
+DEPTH, HEIGHT, PERIOD = 0.5, 0.04, 1.5
+
+
+def progressive(xs, t, height=HEIGHT, period=PERIOD, depth=DEPTH):
+    """eta(x, t) = depth + H/2 cos(k x - omega t), first-order theory's k."""
+    k = expected(depth, height, period)["k"]
+    w = 2 * math.pi / period
+    return {f"g{n + 1}": depth + 0.5 * height * np.cos(k * x - w * t) for n, x in enumerate(xs)}
+
+
+def test_expected_numbers_of_the_issues_wave():
+    """kh = 1.112, wavelength 2.83 m, H/S = 1.082 (issue 28, check 4); c_g between c/2 and c."""
+    th = expected(DEPTH, HEIGHT, PERIOD)
+    assert th["kh"] == pytest.approx(1.112, abs=2e-3)
+    assert th["wavelength"] == pytest.approx(2.83, abs=5e-3)
+    assert th["ratio"] == pytest.approx(1.082, abs=1e-3)
+    assert 0.5 * th["celerity"] < th["group"] < th["celerity"]
+
+
+def test_an_exact_wave_is_read_back():
+    """Sampled every 10 ms at 1, 2 and 3 m: heights to 1e-3 (a period's top falls between
+    samples: (omega dt)^2 / 8 ~ 1e-4 of A), wavelength to 1e-6."""
+    xs = (1.0, 2.0, 3.0)
+    t = np.arange(0.0, 12.0, 0.01)
+    got = waves.measure(t, progressive(xs, t), xs, height=HEIGHT, period=PERIOD, depth=DEPTH, ramp=1.0,
+                        length=10.0, t_end=12.0)
+    assert got["heights"] == pytest.approx([1.0] * 3, abs=1e-3)
+    assert got["wavelength"] == pytest.approx(1.0, abs=1e-6)
+    assert all(n >= 2 for n in got["periods"])
+
+
+def test_a_wave_of_another_length_is_told_apart():
+    """A wave 5 % longer than theory's reads 1.05 (the measure does not assume theory's k)."""
+    xs = (1.0, 2.0, 3.0)
+    t = np.arange(0.0, 12.0, 0.01)
+    k = expected(DEPTH, HEIGHT, PERIOD)["k"] / 1.05
+    gauges = {f"g{n + 1}": DEPTH + 0.01 * np.cos(k * x - 2 * math.pi / PERIOD * t) for n, x in enumerate(xs)}
+    got = waves.measure(t, gauges, xs, height=HEIGHT, period=PERIOD, depth=DEPTH, ramp=1.0, length=10.0,
+                        t_end=12.0)
+    assert got["wavelength"] == pytest.approx(1.05, abs=1e-6)
+    assert got["heights"] == pytest.approx([0.5] * 3, abs=1e-3)
+
+
+def test_window_starts_after_the_train_and_ends_before_the_reflection():
+    """start = ramp T + x / c_g + T; end = (2 L - x) / c without an absorber, rounded down
+    to whole periods; with an absorber the record's end."""
+    th = expected(DEPTH, HEIGHT, PERIOD)
+    start, end = waves.window(2.0, PERIOD, DEPTH, 1.0, 6.0, 30.0)
+    assert start == pytest.approx(PERIOD + 2.0 / th["group"] + PERIOD)
+    assert end <= (12.0 - 2.0) / th["celerity"] < end + PERIOD
+    assert (end - start) / PERIOD == pytest.approx(round((end - start) / PERIOD))
+    _, end = waves.window(2.0, PERIOD, DEPTH, 1.0, 6.0, 30.0, absorber=True)
+    assert 30.0 - PERIOD < end <= 30.0
+
+
+def test_no_whole_period_is_refused():
+    t = np.arange(0.0, 4.0, 0.01)
+    with pytest.raises(ValueError, match="gauge g1 at x = 1 m: no whole period"):
+        waves.measure(t, progressive((1.0,), t), (1.0,), height=HEIGHT, period=PERIOD, depth=DEPTH, ramp=1.0,
+                      length=10.0, t_end=4.0)
