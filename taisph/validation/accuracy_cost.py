@@ -162,11 +162,11 @@ STUDY = {
     # the piston wave maker (issue 28, check 4): gauges at 1, 2, 3 m read before the ramp's
     # end has passed them and, with the far end's sponge, with no reflection
     "wave_flume": dict(
-        levels=[0.04, 0.02, 0.01], quick=[0.08, 0.04], fixed=dict(length=6.0, absorber=2.5, t_end=8.5),
+        levels=[0.08, 0.04, 0.02], quick=[0.08, 0.04], fixed=dict(length=6.0, absorber=2.5, t_end=8.5),
         base={},
         variants=[
-            ("base: H 0.04 m, spline h 1.3 dx, alpha 0.02, delta 0.1, pc, f64", {}, F64),
-            ("H 0.05 m (steepness 0.018)", dict(height=0.05), F64),
+            ("base: H 0.04 m, Wendland h 2 dx, alpha 0.02, delta 0.1, pc, f64", {}, F64),
+            ("cubic spline, h 1.3 dx", dict(kernel="spline", h_factor=1.3), F64),
             ("alpha 0.005", dict(alpha=0.005), F64),
         ],
     ),
