@@ -54,6 +54,18 @@ def test_a_wave_of_another_length_is_told_apart():
     assert got["heights"] == pytest.approx([0.5] * 3, abs=1e-3)
 
 
+def test_a_short_wave_between_distant_gauges_is_read():
+    """T = 1.0 s (wavelength 1.513 m) at gauges 1 m apart: the phase advances 4.15 rad from
+    gauge to gauge, more than pi; unwrapped about theory's k x it reads 1 to 1e-6 (plain
+    unwrapping read 1.92)."""
+    xs = (1.0, 2.0, 3.0)
+    t = np.arange(0.0, 12.0, 0.01)
+    got = waves.measure(t, progressive(xs, t, height=0.03, period=1.0), xs, height=0.03, period=1.0, depth=DEPTH,
+                        ramp=1.0, length=6.0, t_end=12.0, absorber=True)
+    assert expected(DEPTH, 0.03, 1.0)["kh"] == pytest.approx(2.076, abs=2e-3)
+    assert got["wavelength"] == pytest.approx(1.0, abs=1e-6)
+
+
 def test_window_starts_after_the_train_and_ends_before_the_reflection():
     """start = ramp T + x / c_g + T; end = (2 L - x) / c without an absorber, rounded down
     to whole periods; with an absorber the record's end."""

@@ -16,8 +16,9 @@ piston and L the flume's length. Over the window:
 - **phase**: the least-squares fit eta = a cos(omega t) + b sin(omega t) + c; for a
   progressive wave eta = A cos(kx - omega t), a = A cos kx and b = A sin kx, so the phase
   atan2(b, a) grows along the flume as k x;
-- **wavelength**: 2 pi over the slope of the gauges' unwrapped phases against x (a
-  least-squares line through two or more gauges), against the dispersion relation
+- **wavelength**: 2 pi over the slope of the gauges' phases against x (a least-squares
+  line through two or more gauges; phases unwrapped about theory's k x, so that gauges
+  more than half a wavelength apart are read right), against the dispersion relation
   omega^2 = g k tanh kh.
 """
 
@@ -66,11 +67,13 @@ def phase(t, eta, start, end, period) -> tuple[float, float]:
     return float(math.hypot(a, b)), float(math.atan2(b, a))
 
 
-def wavelength(xs, phases) -> float:
-    """2 pi / slope of the gauges' phases (unwrapped in the order of x) against x."""
+def wavelength(xs, phases, k_guess=0.0) -> float:
+    """2 pi / slope of the gauges' phases against x, unwrapped in the order of x about
+    `k_guess` x (theory's wavenumber: gauges farther apart than half a wavelength are
+    then read right as long as the wave's k is within pi / spacing of the guess)."""
     order = np.argsort(xs)
     x = np.asarray(xs, float)[order]
-    p = np.unwrap(np.asarray(phases, float)[order])
+    p = np.unwrap(np.asarray(phases, float)[order] - k_guess * x) + k_guess * x
     slope = np.polyfit(x, p, 1)[0]
     return float(2 * math.pi / abs(slope))
 
@@ -92,7 +95,7 @@ def measure(times, gauges: dict, xs, *, height, period, depth, ramp, length, t_e
         periods.append(int(round((end - start) / period)))
         heights.append(wave_height(times, eta, start, end, period) / height)
         phases.append(phase(times, eta, start, end, period)[1])
-    measured = wavelength(xs, phases)
+    measured = wavelength(xs, phases, th["k"])
     return dict(heights=heights, windows=windows, periods=periods, wavelength=measured / th["wavelength"],
                 wavelength_m=measured, theory=th)
 
