@@ -16,8 +16,7 @@ from taisph.geometry.shapes import ball
 def inside(x, centre, angle, cells, dx, shift):
     """How many of the points `x` lie inside the cylinder's interior: in the dx-square cell
     of one of its particles whose four neighbours along the axes are its particles too, in
-    its own frame (`cells`: those interior particles' offsets from the centre, in dx, less
-    `shift` and rounded: integers). Its surface row is left out: a lattice disc's edge is a
+    its own frame (`cells`, `shift`: :func:`interior_cells`). Its surface row is left out: a lattice disc's edge is a
     staircase, and a fluid particle pressed into one of its notches sits between surface
     particles without having tunnelled into the body."""
     c, s = np.cos(angle), np.sin(angle)
@@ -26,9 +25,14 @@ def inside(x, centre, angle, cells, dx, shift):
     return sum(tuple(k) in cells for k in keys)
 
 
-def interior(keys):
-    """The cells of `keys` whose four axis neighbours are in `keys` too."""
-    return {(i, j) for i, j in keys if {(i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)} <= keys}
+def interior_cells(offsets, dx):
+    """(cells, shift) of a lattice body whose particles sit at `offsets` from its centre:
+    the cells (offset / dx - shift, integers; shift 0 or 1/2, where the lattice sits) of
+    the particles whose four axis neighbours are its particles too."""
+    shift = offsets[0] / dx - np.round(offsets[0] / dx)
+    keys = {tuple(k) for k in np.round(offsets / dx - shift).astype(np.int64)}
+    assert len(keys) == len(offsets), "the body's particles are not on one lattice"
+    return {(i, j) for i, j in keys if {(i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)} <= keys}, shift
 
 
 def entry_run(dx, t_end, every=0.01, **params):
@@ -38,12 +42,9 @@ def entry_run(dx, t_end, every=0.01, **params):
     sim = taisph.Simulation(scene)
     fluid = sim.fluid.copy()
     first = sim.bodies()["cylinder"]
-    offsets = sim.positions()[~fluid & _body_mask(sim, first.position, dx)] - first.position
-    shift = offsets[0] / dx - np.round(offsets[0] / dx)  # 0 or 1/2: where the lattice sits
-    cells = {tuple(k) for k in np.round(offsets / dx - shift).astype(np.int64)}
-    assert len(cells) == expected(dx=dx)["particles"]
-    cells = interior(cells)
     particles = np.flatnonzero(~fluid & _body_mask(sim, first.position, dx))
+    assert len(particles) == expected(dx=dx)["particles"]
+    cells, shift = interior_cells(sim.positions()[particles] - first.position, dx)
     intruders, heights, times, speeds, closest = [], [], [], [], []
     for k in range(int(round(t_end / every)) + 1):
         if k:
@@ -89,9 +90,7 @@ def test_inside_counts_the_interior_not_the_surface_row():
     0.005 m), is not; one a row deeper is."""
     dx = 0.005
     disc = ball((0.0, 0.0), 0.055, dx)
-    offsets = disc - disc.mean(axis=0)
-    shift = offsets[0] / dx - np.round(offsets[0] / dx)
-    cells = interior({tuple(k) for k in np.round(offsets / dx - shift).astype(np.int64)})
+    cells, shift = interior_cells(disc - disc.mean(axis=0), dx)
     diagonal = np.array([1.0, 1.0]) / np.sqrt(2)
     assert inside(np.zeros((1, 2)), np.zeros(2), 0.0, cells, dx, shift) == 1
     assert inside(0.0516 * diagonal[None], np.zeros(2), 0.0, cells, dx, shift) == 0

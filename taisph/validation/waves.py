@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from ..cases.wave_flume import expected
+from ..cases.wave_flume import GAUGES, expected
 from ..scene import wave_makers
 
 
@@ -100,13 +100,15 @@ def measure(times, gauges: dict, xs, *, height, period, depth, ramp, length, t_e
                 wavelength_m=measured, theory=th)
 
 
+ERROR_NAME = "max |H / H_theory - 1| over the gauges"
+
+
 def wave_flume(run, params):
     """A validation run of ``cases/wave_flume.py`` (`run`: a
     :class:`taisph.validation.runs._Runner` of it with `params`): its gauges g1-g3 read
     over their windows (:func:`measure`). Headline error: the largest |H_meas / H - 1| over
     the gauges; metrics: each gauge's H_meas / H, the wavelength over theory's, the periods
     read."""
-    from ..cases.wave_flume import GAUGES
     from ..probes import Probes
 
     scene = run.scene
@@ -115,7 +117,7 @@ def wave_flume(run, params):
     run.advance(scene.t_end, writers=[gauges])
     get = _defaults(params)
     if run.diverged:
-        return run.outcome("wave_flume", params, math.inf, "max |H / H_theory - 1| over the gauges", {}, {})
+        return run.outcome("wave_flume", params, math.inf, ERROR_NAME, {}, {})
     result = measure(np.asarray(gauges.times), {n: np.asarray(gauges.values[n]) for n in names}, GAUGES,
                      height=get("height"), period=get("period"), depth=get("depth"), ramp=get("ramp"),
                      length=get("length"), t_end=scene.t_end, absorber=bool(get("absorber")), g=get("g"))
@@ -123,7 +125,7 @@ def wave_flume(run, params):
     metrics = {**{f"{n}_height": h for n, h in zip(names, result["heights"])},
                "wavelength": result["wavelength"], "periods": result["periods"]}
     series = {"t": list(map(float, gauges.times)), **{n: list(map(float, gauges.values[n])) for n in names}}
-    return run.outcome("wave_flume", params, error, "max |H / H_theory - 1| over the gauges", metrics, series)
+    return run.outcome("wave_flume", params, error, ERROR_NAME, metrics, series)
 
 
 def _defaults(params):
