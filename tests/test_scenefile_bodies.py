@@ -166,8 +166,25 @@ MISTAKES = [
      r"bodies\[0\]\.box = \[\[-0\.2, 0\.4\], \[0\.1, 0\.5\]\]: body 'box' overlaps the walls at t = 0"),
     ("box = [[0.4, 0.4], [0.6, 0.5]]\ndensity = 500.0\ninertia = -1.0", "", "", r"bodies\[0\]\.inertia = -1\.0: must be"),
     ("", '[[bodies]]\nname = "tank"\nbox = [[0.7, 0.4], [0.8, 0.5]]\nmass = 1.0\n', "",
-     r"bodies\[1\]\.name = 'tank': already the name of a wall group"),
+     r"bodies\[1\]\.name = 'tank': already the name of a wall group"),    ("box = [[0.4, 0.4], [0.6, 0.5]]\ndensity = 500.0\nhinge = [0.5, 0.4]\nfixed = [\"rotation\"]", "", "",
+     r"bodies\[0\]\.box = .*: body 'box': a hinged body turns about its hinge: fixed must not hold its rotation"),
+    ("box = [[0.4, 0.4], [0.6, 0.5]]\ndensity = 500.0\nhinge = [0.5]", "", "", r"bodies\[0\]\.hinge = \[0\.5\]"),
+    ('box = [[0.4, 0.4], [0.6, 0.5]]\nmotion = "prescribed"\ntrajectory = "back.csv"\nhinge = [0.5, 0.4]', "", "",
+     r"bodies\[0\]\.hinge = \[0\.5, 0\.4\]: .*"),
 ]
+
+
+def test_a_hinged_body_in_a_scene_file(tmp_path):
+    """hinge = [x, y]: the body turns about that point, which becomes its reference point;
+    its translations are held and its inertia is taken about the hinge (parallel axes)."""
+    scene, _ = load(scene_file(tmp_path, body="box = [[0.4, 0.4], [0.6, 0.5]]\ndensity = 500.0\nhinge = [0.5, 0.4]"))
+    (plate,) = scene.bodies
+    free = plate.centre_of_mass
+    assert np.allclose(plate.centre, [0.5, 0.4]) and np.allclose(free, [0.0, 0.05])
+    assert set(plate.fixed) == {"x", "y"}
+    mass = 500.0 * 0.2 * 0.1
+    assert abs(plate.inertia - mass * (0.2**2 + 0.1**2) / 12 - mass * 0.05**2) < 1e-12
+    assert "hinged at (0.5, 0.4)" in scene.describe()
 
 
 @pytest.mark.parametrize("body,extra,probe,problem", MISTAKES)

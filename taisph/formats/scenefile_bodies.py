@@ -28,14 +28,14 @@ from .scenefile_open import MISSING  # a key the file does not have (the spec re
 SHAPES = ("box", "mesh", "polygon")  # as scenefile_spec.SHAPES
 WAVE_MAKERS = {"piston": ("height", "period", "depth", "ramp"), "flap": ("height", "period", "depth", "ramp"),
                "solitary": ("height", "depth")}
-FLOATING = ("density", "mass", "inertia", "velocity", "angular_velocity", "fixed")  # a floating body's own keys
+FLOATING = ("density", "mass", "inertia", "velocity", "angular_velocity", "fixed", "hinge")  # a floating body's own
 PRESCRIBED = ("wave_maker", "trajectory", "height", "period", "depth", "ramp", "axis", "until")  # a prescribed one's
 KEYS = {"name", "motion", *SHAPES, "scale", "translate", "centre", *FLOATING, *PRESCRIBED}
 RANGES = {"motion": one_of(*MOTIONS), "wave_maker": one_of(*WAVE_MAKERS), "density": between(1e-3, 1e5),
           "mass": between(1e-9, 1e12), "inertia": between(1e-12, 1e15), "velocity": velocity_component,
           "angular_velocity": between(-1e4, 1e4), "centre": position_component, "height": Number(0, 1e4, low_open=True),
           "period": Number(0, 1e4, low_open=True), "depth": Number(0, 1e4, low_open=True), "ramp": between(0, 1e3),
-          "until": end_time, "axis": between(-1e6, 1e6), "trajectory": position_component}
+          "until": end_time, "axis": between(-1e6, 1e6), "trajectory": position_component, "hinge": position_component}
 
 
 @dataclass
@@ -99,8 +99,11 @@ def _memory(check, block, spec):
 
 
 def _floating(check, key, entry, spec, args):
-    """A floating body's keys: density or mass, inertia, velocity, angular_velocity, fixed."""
+    """A floating body's keys: density or mass, inertia, velocity, angular_velocity, fixed,
+    hinge (and with it in 3D the hinge's axis)."""
     for extra in PRESCRIBED:
+        if extra == "axis" and "hinge" in entry and spec.dim == 3:
+            continue  # a 3D hinge's axis
         if extra in entry:
             check.fail(f"{key}.{extra}", entry[extra], "a floating body takes no " + extra
                        + '; a body that follows a given motion has motion = "prescribed"')
@@ -134,6 +137,10 @@ def _floating(check, key, entry, spec, args):
             if v not in FIXABLE[d]:
                 check.fail(f"{key}.fixed[{k}]", v, f"not a degree of freedom of a {d}D body: {', '.join(FIXABLE[d])}")
         args["fixed"] = tuple(value)
+    if "hinge" in entry:
+        args["hinge"] = check.vector(f"{key}.hinge", entry["hinge"], d, RANGES["hinge"])
+        if "axis" in entry:
+            args["axis"] = check.vector(f"{key}.axis", entry["axis"], 3, RANGES["axis"])
 
 
 def _prescribed(check, key, entry, spec, args):

@@ -115,10 +115,25 @@ class Readout:
         total = self.momentum()
         for body, state in zip(self.scene.bodies, self.bodies().values()):
             if body.motion == "floating":
-                total = total + body.mass * state.velocity
+                total = total + body.mass * (state.velocity + _hinged_mass_centre_velocity(body, state))
         return total
 
     def kinetic_energy(self) -> float:
         m = self.masses()[self.fluid]
         v = self.velocities()[self.fluid]
         return float(0.5 * (m * (v * v).sum(axis=1)).sum())
+
+
+def _hinged_mass_centre_velocity(body, state) -> np.ndarray:
+    """omega x (R r_c): the velocity of a hinged body's centre of mass (its reference point,
+    the hinge, does not move); zero for a body whose reference is its centre of mass."""
+    if body.hinge is None:
+        return 0.0
+    r = np.asarray(body.centre_of_mass, float)
+    if len(r) == 2:
+        c, s = np.cos(state.orientation), np.sin(state.orientation)
+        r = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        return state.angular_velocity * np.array([-r[1], r[0]])
+    w, v = state.orientation[0], np.asarray(state.orientation[1:])
+    r = r + 2.0 * np.cross(v, np.cross(v, r) + w * r)  # the unit quaternion's rotation
+    return np.cross(state.angular_velocity, r)

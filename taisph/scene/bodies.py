@@ -44,12 +44,16 @@ class Body:
     table: tuple = None
     axis3: tuple = (0.0, 0.0, 1.0)
     trajectory: str = ""  # what the prescribed motion is, for descriptions
+    hinge: tuple = None  # a hinged body's pivot (its centre then), else None
+    centre_of_mass: tuple = ()  # a hinged body's centre of mass from its hinge, body frame
     extra: dict = field(default_factory=dict)
 
     def describe(self) -> str:
         if self.motion == "prescribed":
             return f"body {self.name}: {len(self.ids)} particles, prescribed ({self.trajectory})"
         fixed = f", fixed {', '.join(self.fixed)}" if self.fixed else ""
+        if self.hinge is not None:
+            fixed = f", hinged at ({', '.join(f'{c:.4g}' for c in self.hinge)})"
         return (f"body {self.name}: {len(self.ids)} particles, floating, mass {self.mass:.6g} kg, centre "
                 f"({', '.join(f'{c:.4g}' for c in self.centre)}){fixed}")
 
@@ -137,6 +141,32 @@ def mass_properties(dim, dx, x, mass, centre=None) -> tuple:
     return centre, inertia
 
 
+def _hinge(body, name, d, hinge, axis) -> None:
+    """Make the floating `body` turn about `hinge` (a point; in 3D about the coordinate axis
+    `axis`): its reference point moves to the hinge, its inertia with it (parallel axes:
+    I_p = I_c + M (|r|^2 E - r r^T), r the centre of mass from the hinge), its translations
+    and other rotations are held, and the centre of mass is kept for gravity's torque."""
+    pivot = _vector(name, "hinge", hinge, d)
+    if "rotation" in body.fixed:
+        raise InputError(f"body {name!r}: a hinged body turns about its hinge: fixed must not hold its rotation")
+    held = ("x", "y")
+    if d == 3:
+        along = np.flatnonzero(np.abs(axis) > 1e-12)
+        if len(along) != 1:
+            raise InputError(f"body {name!r}: axis {np.round(axis, 6).tolist()}: a 3D hinge turns about a "
+                             "coordinate axis (x, y or z), give axis = [1, 0, 0], [0, 1, 0] or [0, 0, 1]")
+        held = ("x", "y", "z") + tuple(r for k, r in enumerate(("rx", "ry", "rz")) if k != along[0])
+        if ("rx", "ry", "rz")[along[0]] in body.fixed:
+            raise InputError(f"body {name!r}: fixed holds {('rx', 'ry', 'rz')[along[0]]!r}, the hinge's own axis")
+    r = body.centre - pivot
+    if d == 2:
+        body.inertia = float(body.inertia + body.mass * r @ r)
+    else:
+        body.inertia = np.asarray(body.inertia, float) + body.mass * (r @ r * np.eye(3) - np.outer(r, r))
+    body.fixed = tuple(dict.fromkeys(body.fixed + held))
+    body.centre, body.hinge, body.centre_of_mass = pivot, tuple(pivot), tuple(r)
+
+
 def _table(scene, name, trajectory, axis, until) -> tuple:
     """(table, dt, what): a prescribed trajectory sampled every dt over [0, until]."""
     d = scene.dim
@@ -205,7 +235,8 @@ def _check_sweep(scene, body, x):
 
 
 def add(scene, name, particles, motion="floating", density=None, mass=None, centre=None, inertia=None,
-        velocity=None, angular_velocity=None, fixed=(), trajectory=None, axis=None, until=None) -> Body:
+        velocity=None, angular_velocity=None, fixed=(), trajectory=None, axis=None, until=None,
+        hinge=None) -> Body:
     """:meth:`taisph.Scene.add_body`: the body `name` made of the wall particles `particles`
     (a slice or indices of walls already added, e.g. what :meth:`~taisph.Scene.add_walls`
     returned, or (N, dim) positions, added as walls once the body is checked), moving as
@@ -217,7 +248,11 @@ def add(scene, name, particles, motion="floating", density=None, mass=None, cent
     (of mass) and `inertia` (2D: a number; 3D: principal moments or a 3 x 3 matrix, body
     frame) default to the particles' (:func:`mass_properties`); `velocity` and
     `angular_velocity` (2D: rad/s; 3D: a vector) at t = 0; `fixed`: degrees of freedom
-    held ("x", "y", "z", "rotation"; in 3D also "rx", "ry", "rz").
+    held ("x", "y", "z", "rotation"; in 3D also "rx", "ry", "rz"); `hinge`: a point the
+    body turns about and stays on (2D: about z; 3D: about `axis`, a coordinate axis,
+    default z), e.g. a flap hinged at the bottom or a pendulum: its translations and other
+    rotations are held, its inertia moved to the hinge, and gravity turns it about the
+    hinge through its centre of mass (:func:`_hinge`).
 
     ``motion="prescribed"``: `trajectory` is a wave maker (a
     :class:`taisph.scene.wave_makers.Motion`: a translation along `axis`, or a rotation
@@ -285,7 +320,12 @@ def add(scene, name, particles, motion="floating", density=None, mass=None, cent
                     raise InputError(f"body {name!r}: inertia must be 3 positive numbers (principal moments) or "
                                      f"a symmetric positive 3 x 3 matrix, got {inertia!r}")
                 body.inertia = arr
+        if hinge is not None:
+            _hinge(body, name, d, hinge, axis)
     else:
+        if hinge is not None:
+            raise InputError(f"body {name!r}: hinge is for a floating body; a prescribed body turns about its "
+                             "centre")
         if trajectory is None:
             raise InputError(f"body {name!r}: a prescribed body needs a trajectory (a wave maker, a function "
                              "of t or a table)")

@@ -225,13 +225,13 @@ class Scene:
 
     def add_body(self, name: str, particles, motion: str = "floating", *, density=None, mass=None, centre=None,
                  inertia=None, velocity=None, angular_velocity=None, fixed=(), trajectory=None, axis=None,
-                 until=None):
+                 until=None, hinge=None):
         """A body of wall particles moving as one, ``"floating"`` or ``"prescribed"``: every
         argument in :func:`taisph.scene.bodies.add`, the physics in docs/bodies.md."""
         from .bodies import add
 
         return add(self, name, particles, motion, density, mass, centre, inertia, velocity, angular_velocity,
-                   fixed, trajectory, axis, until)
+                   fixed, trajectory, axis, until, hinge)
 
     # --- derived ----------------------------------------------------------------
     @property

@@ -24,13 +24,11 @@ contacts, and gravity:
 The fluid's force on a body particle w is gathered from the very pair terms of the force
 pass, F_w = - sum_f m_f a_f<-w, with a_f<-w what the terms' ``pair(f, w)`` add to
 dv_f/dt (the same arithmetic, in isolation), so that fluid and bodies exchange equal and
-opposite momentum. The body's velocity is advanced by the fluid's integrator's rule
-(Euler, symplectic Euler, or the predictor-corrector's trapezoid dt/2 (A_prev + A)), which
-keeps the total momentum of fluid and bodies constant to round-off without gravity.
-The sums over a body's particles run in one serial loop in cell order: reproducible.
-
-**Contact** of a floating body with walls and other bodies: a normal spring-dashpot
-between particles (:mod:`.rigid_body_forces`).
+opposite momentum. The body advances by the fluid's integrator's rule (Euler, symplectic
+Euler, or the predictor-corrector's velocity Verlet: pose first, then dt/2 (A_prev + A)),
+so fluid and bodies keep their total momentum to round-off without gravity. A hinged body
+turns about its hinge (its reference point), gravity's torque added. Sums over a body's
+particles run serially in cell order (reproducible). Contact: :mod:`.rigid_body_forces`.
 """
 
 import numpy as np
@@ -40,7 +38,7 @@ from ..engine import status as st
 from ..engine.layout import WALL
 from ..messages import InputError
 from .base import Term
-from .rigid_body_forces import BodyForce, cross2, perp, q_mul, rotate_q
+from .rigid_body_forces import BodyForce, cross2, perp, rotate_q, turned
 
 # one block of BODY_COLS numbers per body in the ``bodies`` field (f64), then the tables
 CENTRE, VELOCITY, ORIENTATION, OMEGA, MOMENTUM = 0, 3, 6, 10, 13
@@ -49,7 +47,8 @@ MASS, PARTICLE_MASS, INV_INERTIA = 28, 29, 30  # 30..38: body-frame inverse iner
 FREE_LINEAR, FREE_ROTATION = 39, 42  # 1 free, 0 fixed, per world axis (2D rotation: 42)
 TABLE_OFFSET, TABLE_DT, TABLE_LENGTH, AXIS = 45, 46, 47, 48  # prescribed: its table; 3D rotation axis
 FORCE, TORQUE = 51, 54  # the last step's fluid + contact force and torque (for probes)
-PIVOT, MOTION = 57, 60  # prescribed: the pose's reference point at zero offset; the motion's code
+PIVOT, MOTION, HINGED_MASS_CENTRE = 57, 60, 61  # prescribed: its pose's reference; the motion's code;
+# hinged: its centre of mass from the hinge, body frame (61..63)
 BODY_COLS = 64
 CAPACITY = 1 << 18
 MOTIONS = {"prescribed": 1, "floating": 2}
@@ -77,7 +76,8 @@ class RigidBodies(Term):
         self.refresh()
 
     def refresh(self):
-        self.options = {"bodies": tuple(b.motion for b in self.bodies)}
+        self.options = {"bodies": tuple(b.motion for b in self.bodies),
+                        "hinged": tuple(b.hinge is not None for b in self.bodies)}
         return self
 
     def describe(self) -> str:
@@ -124,6 +124,7 @@ class RigidBodies(Term):
                 row[MOMENTUM:MOMENTUM + 3] = np.asarray(b.inertia) @ omega
             row[MASS], row[PARTICLE_MASS] = b.mass, b.mass / len(b.ids)
             row[MOTION] = MOTIONS[b.motion]
+            row[HINGED_MASS_CENTRE:HINGED_MASS_CENTRE + dim] = b.centre_of_mass if b.hinge is not None else 0.0
             inverse = np.linalg.inv(np.atleast_2d(b.inertia))
             row[INV_INERTIA:INV_INERTIA + inverse.size] = inverse.ravel()
             row[FREE_LINEAR:FREE_LINEAR + 3] = [0.0 if a in b.fixed else 1.0 for a in "xyz"]
@@ -148,6 +149,7 @@ class RigidBodies(Term):
         t.p_gravity = param_rows.get("gravity", -1)
         t.acc_prev_row = getattr(layout.q, "acc_prev", -1)
         t.motions = self.options["bodies"]
+        t.hinged = self.options.get("hinged", (False,) * len(t.motions))
         return t
 
     def after_force(self, solver):
@@ -157,7 +159,7 @@ class RigidBodies(Term):
         from ..engine.kernels import TRACED
 
         q, grid, dim, real = self.q, solver.grid, self.dim, solver.real
-        motions, n_bodies = self.motions, len(self.motions)
+        motions, n_bodies, hinged = self.motions, len(self.motions), self.hinged
         integrator = solver.integrator.name
         gatherer = BodyForce(solver, BODY_COLS, PARTICLE_MASS, MOTION, MOTIONS["floating"])
         p_support2 = solver.param_rows["support2"]
@@ -257,7 +259,7 @@ class RigidBodies(Term):
                     da = dt * w1
                 elif ti.static(integrator == "pc"):
                     w1 = w0 + 0.5 * dt * (al0 + alpha)
-                    da = dt * w0 + 0.5 * dt * dt * al0
+                    da = 0.0  # predicted before the torque was summed (predict_pose)
                 s.bodies[base + ORIENTATION] += da
                 s.bodies[base + OMEGA + 2] = w1
                 s.bodies[base + ALPHA_PREV + 2] = alpha
@@ -271,48 +273,62 @@ class RigidBodies(Term):
                     L1 = L + 0.5 * dt * (t0 + torque)
                 quat = vec(s, base + ORIENTATION, 4)
                 w0 = vec(s, base + OMEGA, 3)
-                # rotate by the step's mean rate (exact for a constant one), then normalise
-                w_mid = w0
-                if ti.static(integrator == "eulermid"):
-                    w_mid = world_omega(s, base, quat, L1) * free_r
-                angle = w_mid.norm() * dt
-                turn = ti.Vector([1.0, 0.0, 0.0, 0.0], dt=ti.f64)
-                if angle > 0.0:
-                    axis = w_mid / w_mid.norm()
-                    sh = ti.sin(0.5 * angle)
-                    turn = ti.Vector([ti.cos(0.5 * angle), sh * axis[0], sh * axis[1], sh * axis[2]], dt=ti.f64)
-                quat = q_mul(turn, quat)
-                quat /= quat.norm()
+                if ti.static(integrator != "pc"):  # (pc: predicted before the torque was summed)
+                    w_mid = w0
+                    if ti.static(integrator == "eulermid"):
+                        w_mid = world_omega(s, base, quat, L1) * free_r
+                    quat = turned(quat, w_mid, dt)
                 w1 = world_omega(s, base, quat, L1) * free_r
-                if any_fixed(free_r):  # a constrained axis holds no momentum along it
+                if free_r.min() < 0.5:  # a constrained axis holds no momentum along it
                     L1 = world_inertia(s, base, quat, w1)
                 put(s, base + ORIENTATION, quat)
                 put(s, base + MOMENTUM, L1)
                 put(s, base + OMEGA, w1)
                 put(s, base + ALPHA_PREV, torque)
-                put(s, base + ALPHA, (w1 - w0) / ti.max(dt, 1e-300))
+                if dt > 0.0:  # (the zero-length bootstrap step keeps it: w1 - w0 is round-off there)
+                    put(s, base + ALPHA, (w1 - w0) / dt)
 
         @ti.func
-        def any_fixed(free):
-            return free.min() < 0.5
+        def predict_pose(s: ti.template(), base, dt):
+            """pc: the orientation at the step's end, where its particles were predicted,
+            set before the torque's sum takes its lever arms (docs/bodies.md)."""
+            if ti.static(dim == 2):
+                s.bodies[base + ORIENTATION] += dt * s.bodies[base + OMEGA + 2] \
+                    + 0.5 * dt * dt * s.bodies[base + ALPHA_PREV + 2]
+            else:
+                rate = vec(s, base + OMEGA, 3) + 0.5 * dt * vec(s, base + ALPHA, 3)  # the step's mean
+                put(s, base + ORIENTATION, turned(vec(s, base + ORIENTATION, 4), rate, dt))
+
+        @ti.func
+        def gravity_torque(s: ti.template(), base):
+            """(R r_c) x M g of a hinged body, r_c its centre of mass from the hinge."""
+            torque = ti.Vector.zero(ti.f64, 3)
+            if ti.static(p_gravity >= 0):
+                g = ti.Vector([ti.cast(s.params[p_gravity + d], ti.f64) for d in ti.static(range(dim))])
+                r, weight = arm(s, base, vec(s, base + HINGED_MASS_CENTRE, dim)), s.bodies[base + MASS] * g
+                if ti.static(dim == 2):
+                    torque[2] = cross2(r, weight)
+                else:
+                    torque = r.cross(weight)
+            return torque
+
+
+        @ti.func
+        def inverse_inertia(s: ti.template(), base):
+            return ti.Matrix([[s.bodies[base + INV_INERTIA + 3 * r + c] for c in ti.static(range(3))]
+                              for r in ti.static(range(3))], dt=ti.f64)
 
         @ti.func
         def world_omega(s: ti.template(), base, quat, L):
             """omega = R I^-1 R^T L."""
             conj = ti.Vector([quat[0], -quat[1], -quat[2], -quat[3]])
-            local = rotate_q(conj, L)
-            inv = ti.Matrix([[s.bodies[base + INV_INERTIA + 3 * r + c] for c in ti.static(range(3))]
-                             for r in ti.static(range(3))], dt=ti.f64)
-            return rotate_q(quat, inv @ local)
+            return rotate_q(quat, inverse_inertia(s, base) @ rotate_q(conj, L))
 
         @ti.func
         def world_inertia(s: ti.template(), base, quat, w):
             """L = R I R^T omega (I from its stored inverse)."""
             conj = ti.Vector([quat[0], -quat[1], -quat[2], -quat[3]])
-            local = rotate_q(conj, w)
-            inv = ti.Matrix([[s.bodies[base + INV_INERTIA + 3 * r + c] for c in ti.static(range(3))]
-                             for r in ti.static(range(3))], dt=ti.f64)
-            return rotate_q(quat, inv.inverse() @ local)
+            return rotate_q(quat, inverse_inertia(s, base).inverse() @ rotate_q(conj, w))
 
         @ti.func
         def body(s: ti.template(), t_target):
@@ -334,6 +350,8 @@ class RigidBodies(Term):
                         base = b * BODY_COLS
                         for d in ti.static(range(6)):
                             s.bodies[base + FORCE + d] = 0.0
+                        if ti.static(integrator == "pc" and motions[b] == "floating"):
+                            predict_pose(s, base, dt)
                     for i in range(n):
                         k = s.Si[q.body, i]
                         if k > 0 and s.Si[q.kind, i] == WALL:
@@ -351,7 +369,10 @@ class RigidBodies(Term):
                     for b in ti.static(range(n_bodies)):
                         base = b * BODY_COLS
                         if ti.static(motions[b] == "floating"):
-                            advance(s, base, dt, vec(s, base + FORCE, dim), vec(s, base + TORQUE, 3))
+                            torque = vec(s, base + TORQUE, 3)
+                            if ti.static(hinged[b]):  # gravity turns it about the hinge
+                                torque += gravity_torque(s, base)
+                            advance(s, base, dt, vec(s, base + FORCE, dim), torque)
                         elif ti.static(motions[b] == "prescribed"):
                             row = prescribed(s, base, s.status[st.TIME])
                             pos = ti.Vector([row[d] for d in ti.static(range(dim))])

@@ -46,6 +46,19 @@ def q_mul(a, b):
                       a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]])
 
 
+@ti.func
+def turned(quat, w, dt):
+    """The orientation `quat` turned by the rate w over dt (exact for a constant rate), normalised."""
+    angle = w.norm() * dt
+    turn = ti.Vector([1.0, 0.0, 0.0, 0.0], dt=ti.f64)
+    if angle > 0.0:
+        axis = w / w.norm()
+        sh = ti.sin(0.5 * angle)
+        turn = ti.Vector([ti.cos(0.5 * angle), sh * axis[0], sh * axis[1], sh * axis[2]], dt=ti.f64)
+    out = q_mul(turn, quat)
+    return out / out.norm()
+
+
 @ti.data_oriented
 class BodyForce:
     """Neighbour visitor: the force on body particle i (the wall) from its fluid
