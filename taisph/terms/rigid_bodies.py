@@ -38,7 +38,7 @@ from ..engine import status as st
 from ..engine.layout import WALL
 from ..messages import InputError
 from .base import Term
-from .rigid_body_forces import BodyForce, cross2, perp, rotate_q, turned
+from .rigid_body_forces import BodyForce, cross2, fluid_contact, perp, rotate_q, turned
 
 # one block of BODY_COLS numbers per body in the ``bodies`` field (f64), then the tables
 CENTRE, VELOCITY, ORIENTATION, OMEGA, MOMENTUM = 0, 3, 6, 10, 13
@@ -47,8 +47,7 @@ MASS, PARTICLE_MASS, INV_INERTIA = 28, 29, 30  # 30..38: body-frame inverse iner
 FREE_LINEAR, FREE_ROTATION = 39, 42  # 1 free, 0 fixed, per world axis (2D rotation: 42)
 TABLE_OFFSET, TABLE_DT, TABLE_LENGTH, AXIS = 45, 46, 47, 48  # prescribed: its table; 3D rotation axis
 FORCE, TORQUE = 51, 54  # the last step's fluid + contact force and torque (for probes)
-PIVOT, MOTION, HINGED_MASS_CENTRE = 57, 60, 61  # prescribed: its pose's reference; the motion's code;
-# hinged: its centre of mass from the hinge, body frame (61..63)
+PIVOT, MOTION, HINGED_MASS_CENTRE = 57, 60, 61  # prescribed pose's reference; motion; hinged: r_c (61..63)
 BODY_COLS = 64
 CAPACITY = 1 << 18
 MOTIONS = {"prescribed": 1, "floating": 2}
@@ -57,9 +56,9 @@ BODY_ROW = "body"  # 0: no body; k + 1: body k
 
 @ti.data_oriented
 class RigidBodies(Term):
-    """The scene's moving bodies (:class:`taisph.scene.bodies.Body`, made by
-    :meth:`taisph.Scene.add_body`); compiled only into scenes that have some. Runtime
-    parameters: ``contact_stiffness`` (1/s^2) and ``contact_damping`` (ratio)."""
+    """The scene's moving bodies (:class:`taisph.scene.bodies.Body`, :meth:`taisph.Scene.add_body`);
+    compiled only into scenes with some. Contact (with the fluid too: ``pair``) takes the runtime
+    parameters ``contact_stiffness`` (1/s^2), ``contact_damping`` (ratio), ``contact_distance`` (m)."""
 
     name = "rigid_bodies"
     # 0: the default the scene gives (check(): (0.3 c0 / h)^2, 1, dx)
@@ -67,8 +66,11 @@ class RigidBodies(Term):
     vectors = ("body_offset", "wall_acceleration", "body_force")
     derived = ("body_force",)
     integers = (BODY_ROW,)
-    wall_range = None
     outputs = (BODY_ROW,)
+
+    @ti.func
+    def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
+        fluid_contact(s, self.q, self.p, i, j, rij, r, rates)  # (rigid_body_forces)
 
     def __init__(self, bodies: list, dim: int):
         super().__init__()
