@@ -131,8 +131,9 @@ def _hinged_mass_centre_velocity(body, state) -> np.ndarray:
         return 0.0
     r = np.asarray(body.centre_of_mass, float)
     if len(r) == 2:
-        c, s = np.cos(state.orientation), np.sin(state.orientation)
-        r = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        from ..scene.bodies import _rotation
+
+        r = _rotation(2, state.orientation, None) @ r
         return state.angular_velocity * np.array([-r[1], r[0]])
     w, v = state.orientation[0], np.asarray(state.orientation[1:])
     r = r + 2.0 * np.cross(v, np.cross(v, r) + w * r)  # the unit quaternion's rotation

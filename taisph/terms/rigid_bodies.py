@@ -151,7 +151,7 @@ class RigidBodies(Term):
         t.p_gravity = param_rows.get("gravity", -1)
         t.acc_prev_row = getattr(layout.q, "acc_prev", -1)
         t.motions = self.options["bodies"]
-        t.hinged = self.options.get("hinged", (False,) * len(t.motions))
+        t.hinged = self.options["hinged"]
         return t
 
     def after_force(self, solver):
