@@ -65,6 +65,28 @@ def test_shifting_leaves_a_regular_lattice_alone():
     assert moved < 1e-12
 
 
+def test_shifting_sees_walls():
+    """Water at rest on a lattice in a box of dummy walls on the same lattice: the walls
+    fill the kernel sums like water, so the concentration gradient is zero next to them
+    and nothing moves (to round-off). Before walls counted in the sum, the rows next to
+    the walls were shifted into them (the cylinder case's fluid went through its walls)."""
+    dx = 0.05
+    scene = Scene("box", dim=2, dx=dx, smoothing_length=1.3 * dx, domain=((-0.2, -0.2), (1.2, 1.2)),
+                  materials=[Material("water", 1000.0, 10.0, 7.0)],
+                  terms=[Continuity(walls=True), PressureGradient(walls=True), AdamiWall(),
+                         ParticleShifting(shift_speed=1.0)])
+    points = lattice((-3 * dx, -3 * dx), (1 + 3 * dx, 1 + 3 * dx), dx)
+    inside = np.all((points > 0) & (points < 1), axis=1)
+    scene.add_fluid(points[inside])
+    scene.add_walls(points[~inside])
+    sim = taisph.Simulation(scene)
+    x0 = sim.positions()
+    sim.step(20)
+    moved = np.abs(sim.positions() - x0).max()
+    sim.close()
+    assert moved < 1e-12 * dx
+
+
 def test_inconsistent_scenes_are_refused():
     """Dummy walls without wall-aware pressure/continuity, no-slip viscosity without dummy
     walls, density diffusion without continuity, shifting without a speed: ValueError."""

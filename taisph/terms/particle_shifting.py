@@ -25,13 +25,19 @@ Limits of this implementation: the quantities of a shifted particle are not corr
 for the displacement (the "simple procedure" of Sun et al. 2017; the error is of the
 order of the displacement times the field gradients), and there is no free-surface
 treatment: near a free surface the concentration gradient points outwards and shifting
-would push particles out of the fluid. Use it for confined or periodic flows. Fluid
-neighbours only.
+would push particles out of the fluid. Use it for confined or periodic flows.
+
+Walls: the particles of walls (dummy or any other) count in the sum like fluid ones,
+with their volume m_b / rho_b: they fill the space beyond the wall, so that next to a
+wall the concentration is full and its gradient does not push the fluid into the wall.
+(Without them, the gradient at a wall points out of the fluid, as at a free surface:
+the cylinder case's fluid was pushed through the channel's walls and its run stopped
+at 0.46 s.) Open boundaries' buffer particles are fluid particles and count too.
 """
 
 import taichi as ti
 
-from ..engine.layout import FLUID
+from ..engine.layout import FLUID, WALL
 from ..messages import InputError
 from .base import Term
 
@@ -40,7 +46,7 @@ from .base import Term
 class ParticleShifting(Term):
     name = "particle_shifting"
     params = {"shift_speed": None, "shift_dx": None}
-    wall_range = None  # fluid neighbours only
+    wall_range = "support"  # walls fill the kernel sums (see the module docstring)
     has_shift = True
 
     def check(self, scene):
@@ -53,7 +59,7 @@ class ParticleShifting(Term):
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
-        if s.Si[q.kind, j] == FLUID:
+        if s.Si[q.kind, j] == FLUID or s.Si[q.kind, j] == WALL:
             h = s.params[self.p_h]
             ratio = self.w(s, r) / self.w(s, s.params[self.p.shift_dx])
             ratio2 = ratio * ratio
