@@ -190,6 +190,19 @@ def make(name: str, dim: int):
     return cls(dim)
 
 
+def lattice_sum(name: str, dim: int, h: float, dx: float) -> float:
+    """sum_j W(x_i - x_j) dx^dim over a cubic lattice of spacing dx, i included: the
+    density sum_j m_j W_ij of a particle inside a lattice of particles of mass rho dx^dim,
+    over rho (1 for an exact quadrature; 1.0105 for Wendland C2 with h = 1.3 dx in 2D,
+    0.99995 for the cubic spline)."""
+    kernel = make(name, dim)
+    reach = int(np.ceil(kernel.support * h / dx))
+    axis = np.arange(-reach, reach + 1) * dx
+    grid = np.stack(np.meshgrid(*([axis] * dim), indexing="ij"), -1).reshape(-1, dim)
+    q = np.linalg.norm(grid, axis=1) / h
+    return float(kernel.sigma(dim) / h**dim * kernel.f_numpy(q).sum() * dx**dim)
+
+
 _evaluators: dict = {}
 
 

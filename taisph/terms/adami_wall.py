@@ -59,12 +59,12 @@ class AdamiWall(Term):
             raise InputError("dummy_walls: the scene has no wall particles")
         terms = scene.terms_by_name
         riemann = terms.get("riemann")  # the Riemann formulation: continuity and pressure in one term
-        for name in ("pressure", "continuity"):
-            t = terms.get(name, riemann)
+        density = terms.get("continuity", terms.get("summation_density", riemann))  # how the fluid's density is had
+        for name, t in (("pressure", terms.get("pressure", riemann)), ("continuity", density)):
             if t is None or not t.options.get("walls"):
                 raise InputError(
                     f"dummy_walls needs the {name!r} term with walls=True (e.g. PressureGradient(walls=True), "
-                    "Continuity(walls=True)): otherwise the wall pressure acts on nothing"
+                    "Continuity(walls=True) or SummationDensity(walls=True)): otherwise the wall pressure acts on nothing"
                 )
 
 

@@ -156,9 +156,9 @@ class OpenBoundaries(Term):
         if scene.neighbour_skin > 0:
             raise InputError("open boundaries change the particles every step: use them without neighbour "
                              "lists (neighbour_skin = 0)")
-        if "adaptive_h" in scene.terms_by_name or "summation_density" in scene.terms_by_name:
-            raise InputError("open boundaries need a constant smoothing length and the continuity equation "
-                             "(not adaptive_h or summation_density): their buffer's density is imposed")
+        if "adaptive_h" in scene.terms_by_name:
+            raise InputError("open boundaries need a constant smoothing length (not adaptive_h): their buffers "
+                             "are laid out on the lattice of the scene's dx")
         if type(scene.eos).__name__ != "Tait":
             raise InputError("open boundaries need the Tait equation of state (their density comes from the "
                              "prescribed or extrapolated pressure by its inverse)")

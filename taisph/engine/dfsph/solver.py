@@ -173,13 +173,7 @@ def lattice_ratio(scene) -> float:
     scene's kernel and h): 0.99995 for the cubic spline with h = 1.3 dx in 2D. A solve
     aiming at rho0 itself would read the lattice's density as an expansion and lower
     the pressure of water at rest, step after step."""
-    h, dx, dim = scene.smoothing_length, scene.dx, scene.dim
-    kernel = smoothing.make(scene.kernel, dim)
-    reach = int(np.ceil(kernel.support * h / dx))
-    axis = np.arange(-reach, reach + 1) * dx
-    grid = np.stack(np.meshgrid(*([axis] * dim), indexing="ij"), -1).reshape(-1, dim)
-    q = np.linalg.norm(grid, axis=1) / h
-    return float(kernel.sigma(dim) / h**dim * kernel.f_numpy(q).sum() * dx**dim)
+    return smoothing.lattice_sum(scene.kernel, scene.dim, scene.smoothing_length, scene.dx)
 
 
 def parameter_values(scene, controls) -> dict:
