@@ -6,14 +6,14 @@ import numpy as np
 
 from taisph.geometry import lattice
 from taisph.scene import Material, Scene
-from taisph.scene.parameters import (ParameterError, lattice_count, at_least, checked, end_time, frame_count, known_integrator, known_kernel,
+from taisph.scene.parameters import (ParameterError, lattice_count, at_least, checked, end_time, flag, frame_count, known_integrator, known_kernel,
                                      one_of, positive, smoothing_factor)
 from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, ParticleShifting, PressureGradient
 
 
 @checked(dx=positive, H=positive, L=positive, mu=positive, rho0=positive, p_in=positive, p_out=positive,
          c0=positive, h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator,
-         inlet=one_of("pressure", "velocity"), periodic=one_of(True, False), delta=at_least(0), shifting=one_of(True, False), t_end=end_time, frames=frame_count)
+         inlet=one_of("pressure", "velocity"), periodic=flag, delta=at_least(0), shifting=flag, t_end=end_time, frames=frame_count)
 def channel(
     dx: float = 2.5e-5,
     H: float = 1e-3,

@@ -7,9 +7,10 @@ import numpy as np
 from taisph.geometry import lattice
 from taisph.probes import force, pressure
 from taisph.scene import Material, Scene
-from taisph.scene.parameters import (ParameterError, at_least, between, checked, end_time, frame_count, integer,
+from taisph.scene.parameters import (ParameterError, at_least, between, checked, end_time, flag, frame_count, integer,
                                      known_integrator, known_kernel, one_of, optional, positive, smoothing_factor)
-from taisph.terms import AdamiWall, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting, PressureGradient
+from taisph.terms import (AdamiWall, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting, PressureGradient,
+                          SummationDensity)
 
 # the benchmark's geometry (m) and fluid (Schaefer & Turek 1996, sec. 2)
 LENGTH, HEIGHT = 2.2, 0.41
@@ -21,8 +22,8 @@ BACKGROUND = 0.3 / 0.3**2  # the default background pressure over rho U_max^2: 0
 
 
 @checked(dx=positive, re=between(1, 200), c0=optional(positive), p_background=optional(at_least(0)), ramp=at_least(0), h_factor=smoothing_factor,
-         kernel=known_kernel, integrator=known_integrator, delta=at_least(0), shifting=one_of(True, False),
-         every=integer(at_least=1), surface=one_of("lattice", "rings"), t_end=end_time, frames=frame_count)
+         kernel=known_kernel, integrator=known_integrator, delta=at_least(0), shifting=flag,
+         every=integer(at_least=1), surface=one_of("lattice", "rings"), density=one_of("continuity", "summation"), t_end=end_time, frames=frame_count)
 def cylinder(
     dx: float = 0.005,
     re: float = 20.0,
@@ -33,9 +34,10 @@ def cylinder(
     kernel: str = "wendland",
     integrator: str = "pc",
     delta: float = 0.1,
-    shifting: bool = False,
+    shifting: bool = True,
     every: int = 10,
     surface: str = "lattice",
+    density: str = "summation",
     t_end: float = 8.0,
     frames: int = 16,
 ) -> Scene:
@@ -60,28 +62,34 @@ def cylinder(
     deep (wall group "cylinder"); fluid: the lattice points with r >= D/2. dx must
     divide 0.01 m (D/dx = 10, 20, 30, 40...): the walls, the faces and the cylinder's
     centre then lie on cell corners. Morris laminar viscosity, Wendland kernel with
-    h = 1.3 dx, delta-SPH density diffusion (delta = 0.1, no hydrostatic correction),
-    predictor-corrector. Choices, measured at D/dx = 10 (docs/validation.md, "Flow past
-    a cylinder"):
+    h = 1.3 dx, predictor-corrector, and by default (measured, docs/validation.md, "Flow
+    past a cylinder"; D/dx = 20: C_D +1.7 %, dp +1.7 %):
 
-    - `p_background` (Pa; default 3.33 rho U_max^2, 0.3 Pa at re = 20): the outlet's
-      pressure and the fluid's initial one. Without it (outlet p = 0) the wake's pressure
-      goes negative, the tensile instability opens a cavity behind the cylinder and
-      voids along the walls (the channel loses 3-16 % of its mass), and the noise makes
-      fluid at the inlet's corners cross the face to and fro, which overfills the inlet
-      buffer (an open-boundary issue, reported). But the symmetric pressure gradient
-      turns a background pressure into a spurious drag, ~2.9 C_D per Pa at D/dx = 10
-      (C_D 6.31, 6.99, 9.03 at 0.1, 0.3, 1 Pa): 0.3 Pa is the least that ran stably.
-    - `c0` (default 30 U_max = 9 m/s at re = 20: 20 x the fastest speed, ~1.5 U_max):
-      with 15 U_max the acoustic noise alone overfilled the inlet buffer.
+    - `density` = "summation" (the fluid's density summed over its neighbours and the
+      walls, normalised by the kernel's sum over the lattice: SummationDensity(walls=True,
+      lattice=True)) or "continuity" (evolved, with delta-SPH density diffusion `delta`,
+      no hydrostatic correction);
+    - `shifting` (particle shifting, Sun et al. 2017, at the mean speed, its sum over the
+      walls too): it keeps the particles ordered where the wake's pressure is below the
+      outlet's, so that no background pressure is needed;
+    - `p_background` (Pa): the outlet's pressure and the fluid's initial one; default 0
+      with shifting, 3.33 rho U_max^2 (0.3 Pa at re = 20) without.
 
-    So the drag is too high: C_D +25 % at D/dx = 10, +21 % at 20 (dp +14 %, +10 %).
+    Why (D/dx = 10 to 8 s unless said): without shifting and background pressure the
+    wake's pressure goes negative and the tensile instability opens a cavity behind the
+    cylinder (the channel lost 3-16 % of its mass); a background pressure prevents it but
+    the symmetric pressure gradient turns it into a spurious drag, ~2.9 C_D per Pa (C_D
+    6.31, 6.99, 9.03 at 0.1, 0.3, 1 Pa; +21 % at D/dx = 20 with 0.3 Pa); shifting
+    without background pressure gives the right wake (C_D +6 %) but with the continuity
+    equation the channel lost mass steadily (-4.6 % at 8 s: the shift spreads the wake's
+    particles, which the evolved density does not see); the summed density follows the
+    particles (mass +0.1 %). Its price: a noisier force (the standard deviation of C_D's
+    samples 1.6 against 0.5-0.75 with the continuity equation; the means are steady).
+    `c0` (default 30 U_max = 9 m/s at re = 20: 20 x the fastest speed, ~1.5 U_max):
+    with 15 U_max the acoustic noise overfilled the inlet buffer (continuity, 0.3 Pa).
     `surface`: "lattice" (the staircase above) or "rings" (wall particles on concentric
-    circles dx apart): at D/dx = 10 rings gave C_D 6.54 (+17 %) and dp +6 % against 6.99
-    and +14 %, but a shorter wake still; not the default on one run.
-    `shifting`: particle shifting (Sun et al. 2017) at the mean speed; it pushes fluid
-    through the walls (measured: the run stops at 0.46 s; likely because its concentration
-    gradient sees no wall particles): not usable here.
+    circles dx apart): at D/dx = 10 (continuity, 0.3 Pa) rings gave C_D +17 % and dp +6 %
+    against +25 % and +14 %; not the default on one run.
 
     Probes (written by ``python -m taisph cylinder`` to OUT/probes.csv): the force of
     the fluid on the cylinder "cylinder" (pressure and viscous, N/m, every `every`
@@ -90,7 +98,6 @@ def cylinder(
     pressure there). Measured against the references in docs/validation.md ("Flow
     past a cylinder"), by tools/studies/cylinder_study.py.
     """
-    n_across, n_along = round(HEIGHT / dx), round(LENGTH / dx)
     per_cm = round(0.01 / dx)
     if per_cm < 1 or not math.isclose(per_cm * dx, 0.01, rel_tol=1e-9):
         raise ParameterError(f"cylinder: dx = {dx:g} m must divide 0.01 m (dx = 0.01/k: D/dx = 10 k), so that the "
@@ -98,10 +105,14 @@ def cylinder(
     u_max = 1.5 * re * NU / DIAMETER
     u_mean = 2.0 * u_max / 3.0
     c0 = 30.0 * u_max if c0 is None else c0  # 20 x the fastest speed, about 1.5 U_max
-    p_background = BACKGROUND * RHO * u_max**2 if p_background is None else p_background
+    if p_background is None:
+        p_background = 0.0 if shifting else BACKGROUND * RHO * u_max**2
     fluid_material = Material("fluid", rho0=RHO, c0=c0, gamma=7.0)
-    terms = [Continuity(walls=True), PressureGradient(walls=True), LaminarViscosity(nu=NU, walls=True), AdamiWall(),
-             DensityDiffusion(delta=delta, hydrostatic=False)]
+    if density == "summation":  # before the walls' pass, which extrapolates the fluid's pressure
+        terms = [SummationDensity(walls=True, lattice=True)]
+    else:
+        terms = [Continuity(walls=True), DensityDiffusion(delta=delta, hydrostatic=False)]
+    terms += [PressureGradient(walls=True), LaminarViscosity(nu=NU, walls=True), AdamiWall()]
     if shifting:
         terms.append(ParticleShifting(shift_speed=u_mean))
     scene = Scene(name="cylinder", dim=2, dx=dx, smoothing_length=h_factor * dx,
