@@ -91,6 +91,9 @@ def cylinder(
     circles dx apart): at D/dx = 10 (continuity, 0.3 Pa) rings gave C_D +17 % and dp +6 %
     against +25 % and +14 %; not the default on one run.
 
+    At re = 100 (D/dx = 10, 6 s; docs/validation.md): vortex shedding at St 0.290
+    (reference 0.295-0.305), max C_D 3.83 against 3.22-3.24: too coarse for the bar.
+
     Probes (written by ``python -m taisph cylinder`` to OUT/probes.csv): the force of
     the fluid on the cylinder "cylinder" (pressure and viscous, N/m, every `every`
     steps) and the pressures "p_front" at (0.15, 0.2) and "p_back" at (0.25, 0.2),
