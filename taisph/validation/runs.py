@@ -341,6 +341,14 @@ def wave_flume(precision=None, **params) -> Outcome:
     return validate(_Runner("wave_flume", params, precision), params)
 
 
+def cylinder(precision=None, **params) -> Outcome:
+    """Schaefer & Turek's cylinder at Re 20: its drag against theirs
+    (:func:`taisph.validation.cylinder.cylinder`)."""
+    from .cylinder import cylinder as validate
+
+    return validate(_Runner("cylinder", params, precision), params)
+
+
 VALIDATIONS = {
     "dam_break": dam_break,
     "dam_break_pressure": dam_break_pressure,
@@ -350,6 +358,7 @@ VALIDATIONS = {
     "taylor_green": taylor_green,
     "elliptical_drop": elliptical_drop,
     "wave_flume": wave_flume,
+    "cylinder": cylinder,
 }
 
 
