@@ -40,7 +40,8 @@ class SummationDensity(Term):
 
     def __init__(self, walls: bool = False, lattice: bool = False, **values):
         super().__init__(walls=walls, **values)
-        self.lattice = bool(lattice)
+        if lattice:  # an option so that a saved scene keeps it (the kernel is the same either way)
+            self.options["lattice"] = True
 
     def passes(self):
         return [_DensitySum(self)]
@@ -48,7 +49,7 @@ class SummationDensity(Term):
     def check(self, scene):
         if any(t.integrates.get("density") for t in scene.terms):
             raise InputError("summation_density and an evolved density (continuity) cannot both be used")
-        if self.lattice:
+        if self.options.get("lattice"):
             self.values["lattice_ratio"] = smoothing.lattice_sum(scene.kernel, scene.dim, scene.smoothing_length,
                                                                  scene.dx)
         super().check(scene)

@@ -172,11 +172,8 @@ STUDY = {
     ),
     # Schaefer & Turek's cylinder, Re 20 (issue 27): dx must divide 0.01 m (D/dx = 10, 20)
     "cylinder": dict(
-        levels=[0.01, 0.005], quick=[0.01], fixed=dict(t_end=6.0),
-        base={},
-        variants=[
-            ("base: summed density, shifting, Wendland h 1.3 dx, pc, f64", {}, F64),
-        ],
+        levels=[0.01, 0.005], quick=[0.01], fixed=dict(t_end=6.0), base={},
+        variants=[("base: summed density, shifting, Wendland h 1.3 dx, pc, f64", {}, F64)],
     ),
 }
 
