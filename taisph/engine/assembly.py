@@ -195,6 +195,9 @@ class Solver:
         fields = dict(acc=ti.types.vector(dim, real), d=ti.types.vector(max(1, len(self.integrated)), real))
         if self.has_shift:
             fields["shift"] = ti.types.vector(dim, real)
+        kinds = dict(scalar=real, vector=ti.types.vector(dim, real), matrix=ti.types.matrix(dim, dim, real))
+        for t in terms:  # sums a term gathers in pair() and reads in finish() (terms/base.py)
+            fields.update({name: kinds[kind] for name, kind in t.accumulators.items()})
         self.Rates = ti.types.struct(**fields)
         self.vec = ti.types.vector(dim, real)
         self.field_sets = []  # the FieldSets allocated for this configuration (taisph.engine.fields)

@@ -243,6 +243,7 @@ def force_body(solver):
     grid, integ, timestep, guards = solver.grid, solver.integrator, solver.timestep, solver.guards
     visitor = _ForceSum(solver, [t for t in solver.terms if t.has_pair])
     body_terms = [t for t in solver.terms if t.has_body]
+    finish_terms = [t for t in solver.terms if t.has_finish]
     Rates = solver.Rates
     p_support2 = solver.param_rows["support2"]
     local_parameters = _local_parameters(solver)
@@ -266,6 +267,9 @@ def force_body(solver):
                     ti.static(_traced(t.name, "body"))
                     t.body(s, i, rates)
                 grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], visitor, rates)
+                for t in ti.static(finish_terms):
+                    ti.static(_traced(t.name, "finish"))
+                    t.finish(s, i, rates)
                 integ.update(s, i, rates, dt)
                 timestep.track(s, i, rates)
                 guards.check(s, i, rates)

@@ -41,6 +41,11 @@ A term class declares (all optional):
     not their momentum (XSPH); the integrator advances positions with v + shift;
 ``outputs``
     quantities written to the ParaView frames besides the standard ones;
+``accumulators``
+    extra members of the rates accumulator, ``{name: "scalar" | "vector" | "matrix"}``
+    (dim, dim x dim), zero at the start of each particle's sum: neighbour sums a term
+    gathers in ``pair`` and reads back in ``finish`` (particle shifting's free-surface
+    detection); the names are shared by all terms;
 ``options``
     compile-time options (part of the kernel cache key), set by the constructor.
 
@@ -52,6 +57,10 @@ and the hooks it needs, ``ti.func`` methods the engine calls if the class define
     ``rates.acc`` (dv/dt) and ``rates.d[self.r.<rate>]`` (e.g. ``self.r.d_density``);
 ``body(s, i, rates)``
     a contribution that needs no neighbour (gravity);
+``finish(s, i, rates)``
+    called after every pair of particle i is summed, before the integrator reads the
+    rates: a term that corrects its own sum by the whole neighbourhood (particle shifting
+    at a free surface);
 ``derive(s, i)``
     run for every particle after the equation of state when the state is gathered in
     cell order: per-particle quantities the pair sums reuse (e.g. P / rho^2), stored
@@ -82,7 +91,7 @@ import taichi as ti
 from ..engine.layout import FLUID, VARIABLE_H
 from ..messages import InputError
 
-HOOKS = ("pair", "body", "derive")
+HOOKS = ("pair", "body", "derive", "finish")
 
 
 class Term:
@@ -98,10 +107,12 @@ class Term:
     viscosity_param = None
     has_shift = False
     outputs: tuple = ()
+    accumulators: dict = {}
     # the hooks; a subclass defines those it needs as ti.func methods
     pair = None
     body = None
     derive = None
+    finish = None
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -121,6 +132,10 @@ class Term:
     @property
     def has_derive(self) -> bool:
         return type(self).derive is not None
+
+    @property
+    def has_finish(self) -> bool:
+        return type(self).finish is not None
 
     def __init__(self, walls: bool = False, **values):
         unknown = set(values) - set(self.params)

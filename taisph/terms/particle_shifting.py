@@ -21,11 +21,38 @@ sums stop approximating derivatives. In the Taylor-Green vortex this destroys th
 solution at t ~ 2/(kU) (the "taylor_green" case without shifting: L1 velocity error
 0.29 at t = 0.2, see docs/accuracy.md).
 
+Free surfaces (``free_surface=True``, compile-time; Sun et al. 2017 sec. 2.3, after Lind
+et al. 2012): near a free surface the concentration gradient points out of the fluid, and
+shifting alone pushes the surface out (still water 0.5 m deep, dx = 0.025, U = 3 m/s:
+its top particle rose 22 dx in 2 s; tests/test_free_surface_shifting.py). The same pair
+sum then gathers each particle's moment matrix
+
+    B_a = -sum_b V_b r_ab (x) grad_a W_ab        (= I inside the fluid, on a lattice)
+
+and its smallest eigenvalue lambda_a tells where the particle is (on a square lattice with
+the cubic spline, h = 1.3 dx: 0.5 in the surface row, 0.90 one row down, 1.01 below;
+Wendland C2, h = 2 dx: 0.5, 0.70, 0.94, 1.00): lambda < 0.4 (a splash, a thin jet): no
+shift; lambda < 0.75 (the surface layer): the shift's component along the normal
+n = -G / |G|, G = sum_b V_b grad_a W_ab, is removed, delta u <- (I - n n) delta u; the
+shift is kept otherwise. With the rule the same still water's top rose 0.02 dx in 2 s.
+Where the surface meets a wall with friction (the dam break's back wall, with
+``wall_friction``) it does not hold: a film of water stays on the wall (the residual
+column 0.93 high at t sqrt(g/L) = 2.2 against 0.54 without shifting, dx = 0.02; also with no shift
+at all in the surface layer), so the dam-break case refuses the two together. Scene files
+switch shifting on with this rule (``physics.shifting = U``).
+
+Cap (``shift_cap``, default 0.1): a particle moves by at most shift_cap * shift_dx per
+step by shifting. The shift velocity above is a diffusion of the particle concentration
+with coefficient ~4 U h, explicit in time: its step, 4 U h dt / h^2, is ~0.1 under the
+weakly compressible time step (Sun et al.'s CFL Ma), but a solver with 10-50 times longer
+steps overshoots with the same coefficient (an incompressible build tried on still water
+with U = 1 m/s stopped on the density guard; the DFSPH solver does not take shifting).
+
 Limits of this implementation: the quantities of a shifted particle are not corrected
 for the displacement (the "simple procedure" of Sun et al. 2017; the error is of the
-order of the displacement times the field gradients), and there is no free-surface
-treatment: near a free surface the concentration gradient points outwards and shifting
-would push particles out of the fluid. Use it for confined or periodic flows.
+order of the displacement times the field gradients). Without ``free_surface`` it is for
+confined or periodic flows. Refused with the Riemann formulation (``check``: still water
+under both grew unstable).
 
 Walls: the particles of walls (dummy or any other) count in the sum like fluid ones,
 with their volume m_b / rho_b: they fill the space beyond the wall, so that next to a
@@ -35,19 +62,37 @@ the cylinder case's fluid was pushed through the channel's walls and its run sto
 at 0.46 s.) Open boundaries' buffer particles are fluid particles and count too.
 """
 
+import math
+
 import taichi as ti
 
+from ..engine import status as st
 from ..engine.layout import FLUID, WALL
 from ..messages import InputError
 from .base import Term
 
 
+# Sun et al. 2017's bounds on lambda (the smallest eigenvalue of B, above)
+SPLASH_LAMBDA = 0.4
+SURFACE_LAMBDA = 0.75
+
+
 @ti.data_oriented
 class ParticleShifting(Term):
+    """Parameters ``shift_speed`` (U, m/s), ``shift_dx`` (m), ``shift_cap`` (of shift_dx per
+    step); option ``free_surface`` (above)."""
+
     name = "particle_shifting"
-    params = {"shift_speed": None, "shift_dx": None}
+    params = {"shift_speed": None, "shift_dx": None, "shift_cap": 0.1}
     wall_range = "support"  # walls fill the kernel sums (see the module docstring)
     has_shift = True
+
+    def __init__(self, free_surface: bool = False, **values):
+        super().__init__(**values)
+        self.accumulators = {}
+        if free_surface:
+            self.options["free_surface"] = True
+            self.accumulators = {"shift_gradient": "vector", "shift_moment": "matrix"}
 
     def check(self, scene):
         if self.values.get("shift_dx") is None:
@@ -55,6 +100,17 @@ class ParticleShifting(Term):
         u = self.values.get("shift_speed")
         if u is None or not u >= 0:
             raise InputError(f"particle_shifting needs shift_speed >= 0 (the reference flow speed, m/s), got {u!r}")
+        if any(t.name == "riemann" for t in scene.terms):
+            # measured: still water (1 m x 0.5 m, dx = 0.025, Wendland h = 2 dx, U = 3.2 m/s) went unstable,
+            # pressure rms 2 % of rho g H at 0.5 s, 12 % at 2 s, 35 % at 3 s (the symmetric form: 0.7-1.3 %)
+            raise InputError("particle_shifting cannot be used with the Riemann formulation: still water under "
+                             "both grew unstable (pressure error 35 % of rho g H in 3 s); use the symmetric form "
+                             "(formulation = \"symmetric\", Continuity + PressureGradient), where shifting with "
+                             "density diffusion is delta-plus-SPH")
+        cap = self.values.get("shift_cap")
+        if cap is None or not 0 < cap <= 1:
+            raise InputError(f"particle_shifting needs 0 < shift_cap <= 1 (the largest shift per step, in shift_dx), "
+                             f"got {cap!r}")
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
@@ -65,4 +121,52 @@ class ParticleShifting(Term):
             ratio2 = ratio * ratio
             weight = 1.0 + 0.2 * ratio2 * ratio2
             coeff = 4.0 * s.params[self.p.shift_speed] * h
-            rates.shift -= coeff * weight * s.Ss[q.mass, j] / s.Ss[q.density, j] * grad
+            volume = s.Ss[q.mass, j] / s.Ss[q.density, j]
+            rates.shift -= coeff * weight * volume * grad
+            if ti.static(self.options.get("free_surface", False)):
+                rates.shift_gradient += volume * grad
+                rates.shift_moment -= volume * rij.outer_product(grad)
+
+    @ti.func
+    def finish(self, s: ti.template(), i, rates: ti.template()):
+        if ti.static(self.options.get("free_surface", False)):
+            lam = _smallest_eigenvalue(rates.shift_moment)
+            if lam < SPLASH_LAMBDA:
+                rates.shift *= 0.0
+            elif lam < SURFACE_LAMBDA:
+                g = rates.shift_gradient
+                g2 = g.norm_sqr()
+                if g2 > 0.0:
+                    normal = g / ti.sqrt(g2)
+                    rates.shift -= rates.shift.dot(normal) * normal  # (I - n n) delta u: both ways (below)
+        # at most shift_cap * shift_dx per step (the module docstring: "Cap")
+        step = rates.shift.norm() * s.status[st.DT]
+        most = s.params[self.p.shift_cap] * s.params[self.p.shift_dx]
+        if step > most:
+            rates.shift *= most / step
+
+
+@ti.func
+def _smallest_eigenvalue(b):
+    """The smallest eigenvalue of the symmetric part of the 1x1, 2x2 or 3x3 matrix b (3x3:
+    the trigonometric solution of the characteristic cubic, Smith 1961, CACM 4:168)."""
+    lam = b[0, 0]
+    if ti.static(b.n == 2):
+        off = 0.5 * (b[0, 1] + b[1, 0])
+        half = 0.5 * (b[0, 0] - b[1, 1])
+        lam = 0.5 * (b[0, 0] + b[1, 1]) - ti.sqrt(half * half + off * off)
+    elif ti.static(b.n == 3):
+        a = 0.5 * (b + b.transpose())
+        p1 = a[0, 1] ** 2 + a[0, 2] ** 2 + a[1, 2] ** 2
+        mean = (a[0, 0] + a[1, 1] + a[2, 2]) / 3.0
+        p2 = (a[0, 0] - mean) ** 2 + (a[1, 1] - mean) ** 2 + (a[2, 2] - mean) ** 2 + 2.0 * p1
+        lam = mean
+        if p2 > 1e-24:
+            p = ti.sqrt(p2 / 6.0)
+            c = a / p
+            for d in ti.static(range(3)):
+                c[d, d] -= mean / p
+            half_det = 0.5 * c.determinant()
+            phi = ti.acos(ti.min(1.0, ti.max(-1.0, half_det))) / 3.0
+            lam = mean + 2.0 * p * ti.cos(phi + 2.0 * math.pi / 3.0)
+    return lam
