@@ -149,7 +149,7 @@ def _check_grid(spec, scene):
 _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].model", "gravity": "physics.gravity",
               "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
               "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation",
-              "laminar_viscosity": "physics.nu", "open_boundaries": "open_boundaries", "rigid_bodies": "bodies"}
+              "laminar_viscosity": "physics.nu", "particle_shifting": "physics.shifting", "open_boundaries": "open_boundaries", "rigid_bodies": "bodies"}
 
 
 def _validate(spec, scene):
@@ -171,9 +171,10 @@ def _validate(spec, scene):
             except Exception:  # noqa: BLE001 - the scene's own refusal is the one to report
                 break
         key = "open_boundaries" if "open boundary '" in str(err) else key
+        key = next((k for name, k in _TERM_KEYS.items() if f"the term {name!r}" in str(err)), key)  # a solver's refusal
         values = {"walls[0].model": spec.wall_model, "physics.gravity": list(spec.gravity), "physics.alpha": spec.alpha,
                   "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
-                  "physics.formulation": spec.formulation, "physics.nu": spec.nu,
+                  "physics.formulation": spec.formulation, "physics.nu": spec.nu, "physics.shifting": spec.shifting,
                   "open_boundaries": [z.name for z in spec.open_boundaries or ()], "bodies": [b.name for b in spec.bodies or ()],
                   "materials": [m["name"] for m in spec.materials]}
         raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
@@ -195,7 +196,8 @@ def _terms(spec, g, height, speed):
     """The scene's terms; gravity `g`, the fluid's `height` and its fastest initial
     `speed` scale the Lennard-Jones force."""
     from ..terms import (XSPH, AdamiWall, ArtificialViscosity, Continuity, ContinuityColagrossi, DensityDiffusion,
-                         Gravity, LaminarViscosity, LennardJonesWall, PressureGradient, PressureHuAdams, Riemann)
+                         Gravity, LaminarViscosity, LennardJonesWall, ParticleShifting, PressureGradient, PressureHuAdams,
+                         Riemann)
 
     dummy = spec.wall_model == "dummy"
     if spec.formulation == "riemann" and spec.multiphase:
@@ -224,6 +226,8 @@ def _terms(spec, g, height, speed):
         terms.append(DensityDiffusion(delta=spec.delta, hydrostatic=any(spec.gravity)))  # (the same without gravity)
     if spec.xsph > 0:
         terms.append(XSPH(xsph_eps=spec.xsph))
+    if spec.shifting > 0:  # delta-plus-SPH's shifting (Sun et al. 2017), kept off free surfaces by their rule
+        terms.append(ParticleShifting(shift_speed=spec.shifting, free_surface=True))
     return terms
 
 
@@ -344,7 +348,8 @@ def _wall_points(spec, block):
 # --- a scene file as a case (sweeps) ---------------------------------------------------
 # The keys of a scene file a sweep may set or vary, as case parameters: name -> file key
 SWEEP_KEYS = {"dx": "dx", "t_end": "t_end", "frames": "frames", "integrator": "integrator", "kernel": "kernel",
-              "h_factor": "h_factor", "alpha": "physics.alpha", "delta": "physics.delta", "xsph": "physics.xsph"}
+              "h_factor": "h_factor", "alpha": "physics.alpha", "delta": "physics.delta", "xsph": "physics.xsph",
+              "shifting": "physics.shifting"}
 
 
 def scene_factory(path):
