@@ -149,7 +149,8 @@ def _check_grid(spec, scene):
 _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].model", "gravity": "physics.gravity",
               "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
               "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation",
-              "laminar_viscosity": "physics.nu", "particle_shifting": "physics.shifting", "open_boundaries": "open_boundaries", "rigid_bodies": "bodies"}
+              "laminar_viscosity": "physics.nu", "particle_shifting": "physics.shifting", "open_boundaries": "open_boundaries",
+              "rigid_bodies": "bodies"}
 
 
 def _validate(spec, scene):

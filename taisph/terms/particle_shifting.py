@@ -138,7 +138,7 @@ class ParticleShifting(Term):
                 g2 = g.norm_sqr()
                 if g2 > 0.0:
                     normal = g / ti.sqrt(g2)
-                    rates.shift -= rates.shift.dot(normal) * normal  # (I - n n) delta u: both ways (below)
+                    rates.shift -= rates.shift.dot(normal) * normal  # (I - n n) delta u, as Sun et al.
         # at most shift_cap * shift_dx per step (the module docstring: "Cap")
         step = rates.shift.norm() * s.status[st.DT]
         most = s.params[self.p.shift_cap] * s.params[self.p.shift_dx]

@@ -139,8 +139,8 @@ def main(argv=None):
     if args.sensors:
         print(f"dx = {args.dx:g} m (H/dx = {SENSORS_H / args.dx:.0f}); peak / experiment's median peak, rho g H")
         return sensors(args.dx, args.only)
-    head = ["variant"] + [f"{p} {m}" for p in PROBES for m in ("MAE", "noise", "peak / exp.")] + ["P1 impact", "steps", "wall s",
-                                                                                       "stopped"]
+    head = (["variant"] + [f"{p} {m}" for p in PROBES for m in ("MAE", "noise", "peak / exp.")]
+            + ["P1 impact", "steps", "wall s", "stopped"])
     print(f"dx = {args.dx:g} m (H/dx = {buchner.H / args.dx:.0f})")
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
