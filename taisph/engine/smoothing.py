@@ -203,6 +203,25 @@ def lattice_sum(name: str, dim: int, h: float, dx: float) -> float:
     return float(kernel.sigma(dim) / h**dim * kernel.f_numpy(q).sum() * dx**dim)
 
 
+
+def lattice_moment(name: str, dim: int, h: float, dx: float) -> float:
+    """B = -sum_j dx^dim (x_i - x_j)_x (grad_i W_ij)_x over a cubic lattice of spacing dx:
+    the factor by which the SPH gradient sum_j V_j (f_j - f_i) grad_i W_ij overstates the
+    gradient of a linear field f on that lattice (1 for an exact quadrature; the same
+    along every axis). 1.0105 for the cubic spline with h = 1.3 dx in 2D, 1.0010 with
+    h = 1.25 dx, 0.9908 with 1.2 dx; Wendland C2 with h = 2 dx: 0.9992. The derivative of
+    the kernel's shape is taken by central differences (error ~1e-10)."""
+    kernel = make(name, dim)
+    reach = int(np.ceil(kernel.support * h / dx))
+    axis = np.arange(-reach, reach + 1) * dx
+    grid = np.stack(np.meshgrid(*([axis] * dim), indexing="ij"), -1).reshape(-1, dim)
+    r = np.linalg.norm(grid, axis=1)
+    grid, r = grid[r > 0], r[r > 0]
+    q, dq = r / h, 1e-6
+    slope = (kernel.f_numpy(q + dq) - kernel.f_numpy(q - dq)) / (2 * dq)  # df/dq
+    dw_dr = kernel.sigma(dim) / h ** (dim + 1) * slope
+    return float(-np.sum(dw_dr * grid[:, 0] ** 2 / r) * dx**dim)
+
 _evaluators: dict = {}
 
 

@@ -26,7 +26,10 @@ of the thread pool), computes
   equation with the step's pressures (k = kappa + kappa_v = p / rho^2, both solves'; the
   wall mirrors p_f and adds its hydrostatic head, p_w = p_f + rho_f g . (x_w - x_f)):
 
-      a_f<-w = - (phi k_f - g . r_fw / rho_f) m_w grad_f W_fw,    phi = WALL_MIRROR (2).
+      a_f<-w = - s (phi k_f - g . r_fw / rho_f) m_w grad_f W_fw,    phi = WALL_MIRROR (2),
+
+  s the solve's pressure force factor (``dfsph_gradient_scale``, 1 / the lattice's
+  gradient moment).
 
 Inputs go in through the auxiliary kernel's two ndarray arguments, which this module
 allocates once per :class:`Sampler`:
@@ -84,6 +87,7 @@ def _body(solver):
     force_terms = [t for t in solver.terms if t.name in FORCE_TERMS and t.has_pair]
     dfsph = solver.dfsph  # its pressure force on a wall: dfsph_pressure_force
     p_gravity = rows.get("gravity", -1)
+    p_scale = rows.get("dfsph_gradient_scale", -1)  # DFSPH's pressure force factor (engine/dfsph/parameters.py)
     Rates = solver.Rates
     ACTIVE, PHI, PI, U = dim, dim + 1, dim + 2, dim + 3  # columns of a point's row (U: dim of them)
 
@@ -121,7 +125,7 @@ def _body(solver):
         if ti.static(p_gravity >= 0):
             g = ti.Vector([s.params[p_gravity + d] for d in ti.static(range(dim))])
             share -= g.dot(rfw) / s.Ss[q.density, f]
-        return -share * coef
+        return -(s.params[p_scale] * share) * coef
 
     @ti.func
     def wall_force(s: ti.template(), w, support2):

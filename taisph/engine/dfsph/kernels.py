@@ -88,6 +88,8 @@ class Bodies:
                     s.Ss[q.density, i] = acc.rho
                     gsum = acc.gf + acc.gb  # acc.gb has the walls' mirror share
                     denominator = gsum.dot(gsum) + acc.g2
+                    # the diagonal of the solve's matrix, whose pressure force is scaled (gradient_scale)
+                    denominator *= s.params[p["dfsph_gradient_scale"]]
                     s.Ss[q.alpha, i] = 1.0 / denominator if denominator > 0.0 else 0.0
                     s.Sv[q.gsum, i] = gsum
                     s.Ss[q.source, i] = acc.div  # kappa_v: the last step's, the solve's warm start
@@ -136,6 +138,7 @@ class Bodies:
         """ti.func(s, i, row) -> a_i(k) of the pressures in scalar row `row`."""
         q, grid = self.q, self.grid
         f = self.x.pairs
+        scale_row = self.p["dfsph_gradient_scale"]
 
         @ti.func
         def acceleration(s: ti.template(), i, row: ti.template()):
@@ -144,7 +147,8 @@ class Bodies:
             for k in range(f.count[i]):
                 j = f.nbr[i, k]
                 a -= (f.coef[i, k] * s.Ss[row, j]) * grid.separation(s, xi, s.Sv[q.position, j])
-            return a
+            scale = s.params[scale_row]
+            return scale * a
 
         return acceleration
 
@@ -272,6 +276,8 @@ class Bodies:
                 coef = f.coef[i, k]
                 visitor.visit(s, i, j, rij, rij.norm_sqr(), coef, rates)
                 a -= (coef * s.Ss[q.kappa, j]) * rij
+            scale = s.params[p["dfsph_gradient_scale"]]
+            a *= scale
             vstar = s.Sv[q.velocity, i] + dt * rates.acc
             s.Sv[q.vstar, i] = vstar
             if ti.static(has_shift):

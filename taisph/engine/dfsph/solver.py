@@ -23,12 +23,16 @@ fluid and wall particles; ``g_ij = m_j grad_i W_ij``):
 
        a_i(k) = - sum_fluid g_ij (k_i + k_j) - phi k_i sum_wall g_ij          (k = p / rho^2)
 
-   (walls mirror the pressure of the fluid particle, p_wall = p_i); then v += dt a(kv);
+   (walls mirror the pressure of the fluid particle, p_wall = p_i; every pressure force,
+   this one and the walls' head below, is scaled by 1 / B, B the gradient moment of the
+   lattice, :func:`.parameters.gradient_scale`, so that water at rest has the hydrostatic
+   pressure); then v += dt a(kv);
 3. the non-pressure forces, the scene's terms that make sense without an equation of
    state (gravity, laminar and artificial viscosity, XSPH; :data:`taisph.scene.solvers.DFSPH_KEPT`), and the
    hydrostatic head of the walls: a mirrored wall particle b has the pressure
    p_i + rho_i g . (x_b - x_i) (Adami et al. 2012 eq. 27), whose part beyond p_i is
-   known, a_i += sum_wall g_ib (g . r_ib) / rho_i. Then v* = v + dt a_nonpressure
+   known, a_i += sum_wall g_ib (g . r_ib) / rho_i; and fluid pairs closer than dx repel
+   (:data:`.visitors.PAIRING_REPULSION`: the pairing instability). Then v* = v + dt a_nonpressure
    (summed in the first density iteration's walk of the pair list: one walk less);
 4. the constant-density solve (BK17 algorithm 3): pressures k_i such that the
    predicted density rho*_i + dt^2 sum_j g_ij . (a_i(k) - a_j(k)), with
@@ -77,38 +81,22 @@ in the density sum; the choice and its measurements are in docs/dfsph.md.
 
 
 import collections
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import taichi as ti
 
-from .. import kernels, neighbours, smoothing
+from .. import kernels
 from .. import status as st
 from ...eos import tait
 from ..layout import FLUID
 from .chebyshev import Chebyshev
+# the runtime parameters of the solve, derived per scene (re-exported: the engine reads them here)
+from .parameters import (MIN_NEIGHBOURS, PARAMS, artificial_viscosity_nu, gradient_scale,  # noqa: F401
+                         lattice_ratio, parameter_values, relaxation)
 from .kernels import CHUNKS, Bodies  # noqa: F401 (CHUNKS: the size of the error sums' field)
 
-# Runtime parameters of the solve: values derived per scene (parameter_values), read by
-# the kernels from the parameter table like any term's.
-PARAMS = (
-    ("dfsph_min_neighbours", 1),  # fewer neighbours: no divergence correction (a splash); MIN_NEIGHBOURS
-    ("dfsph_relaxation", 1),  # omega of the Jacobi updates: relaxation(scene)
-    ("dfsph_rest_ratio", 1),  # the density the density solve aims at, over rho0: lattice_ratio(scene)
-    ("dfsph_nu_art", 1),  # artificial viscosity's kinematic viscosity, for dt: artificial_viscosity_nu(scene)
-    ("dfsph_divergence_tolerance", 1),  # the control of that name (no divergence velocity when within it)
-)
 Extra = collections.namedtuple("Extra", "pairs part result")  # a field set's DFSPH fields (Solver.extra_fields)
-MIN_NEIGHBOURS = {1: 3, 2: 7, 3: 20}  # 2D, 3D: SPlisHSPlasH's
-
-
-def relaxation(scene) -> float:
-    """omega of the Jacobi updates: min(0.5, 2.3 / sqrt(N)), N the lattice particles in
-    a kernel support (a ball of it over dx^dim): more neighbours weaken the diagonal the
-    update divides by (measured in 2D and 3D: docs/dfsph.md, "The solve")."""
-    ball = neighbours.ball_volume(scene.support_radius, scene.dim)
-    return min(0.5, 2.3 / math.sqrt(ball / scene.dx**scene.dim))
 
 
 @ti.data_oriented
@@ -166,33 +154,6 @@ def initial_kappa(scene):
     gamma = np.array([m.gamma for m in scene.materials])[scene.material]
     p = tait.pressure(scene.density, rho0, c0, gamma)
     return np.where(scene.kind == FLUID, np.maximum(p, 0.0) / rho0**2, 0.0)
-
-
-def lattice_ratio(scene) -> float:
-    """sum_j m_j W_ij / rho0 of a particle inside a cubic lattice of spacing dx (the
-    scene's kernel and h): 0.99995 for the cubic spline with h = 1.3 dx in 2D. A solve
-    aiming at rho0 itself would read the lattice's density as an expansion and lower
-    the pressure of water at rest, step after step."""
-    return smoothing.lattice_sum(scene.kernel, scene.dim, scene.smoothing_length, scene.dx)
-
-
-def parameter_values(scene, controls) -> dict:
-    """The values of :data:`PARAMS` for `scene` and the simulation's `controls`."""
-    return dict(dfsph_min_neighbours=MIN_NEIGHBOURS[scene.dim], dfsph_relaxation=relaxation(scene),
-                dfsph_rest_ratio=lattice_ratio(scene), dfsph_nu_art=artificial_viscosity_nu(scene),
-                dfsph_divergence_tolerance=controls.dfsph_divergence_tolerance)
-
-
-def artificial_viscosity_nu(scene) -> float:
-    """The kinematic viscosity of Monaghan's artificial viscosity, alpha h c0 / (2 (d + 2))
-    (Monaghan 2005 sec. 4.6), the largest c0 of the materials; 0 without the term. Its
-    explicit step limit 0.125 h^2 / nu joins the time step's (it replaces the force limit
-    of the viscous accelerations)."""
-    term = scene.terms_by_name.get("artificial_viscosity")
-    if term is None:
-        return 0.0
-    c0 = max(m.c0 for m in scene.materials)
-    return float(term.values.get("alpha", 0.1)) * scene.smoothing_length * c0 / (2 * (scene.dim + 2))
 
 
 # --- the host side -----------------------------------------------------------------------
