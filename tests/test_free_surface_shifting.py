@@ -121,8 +121,9 @@ def test_dam_break_refuses_shifting_with_wall_friction():
 def test_shifting_is_refused_with_the_riemann_formulation(tmp_path):
     """Still water under the Riemann formulation with shifting grew unstable (1 m x 0.5 m,
     dx = 0.025, Wendland h = 2 dx, U = 3.2 m/s: pressure rms 2 % of rho g H at 0.5 s, 35 %
-    at 3 s; the symmetric form with shifting 0.7-1.3 %): the pair is refused before
-    anything is built, naming the scene file's key."""
+    at 3 s, a drift of the water's volume which artificial viscosity, absent from the
+    Riemann form by default, slows): the pair is refused before anything is built, naming
+    the scene file's key."""
     path = tmp_path / "riemann.toml"
     path.write_text(STILL.replace('formulation = "symmetric"', 'formulation = "riemann"'))
     with pytest.raises(SceneFileError, match=r"riemann.toml: physics.shifting = 3.0: .*Riemann formulation"):

@@ -51,8 +51,11 @@ with U = 1 m/s stopped on the density guard; the DFSPH solver does not take shif
 Limits of this implementation: the quantities of a shifted particle are not corrected
 for the displacement (the "simple procedure" of Sun et al. 2017; the error is of the
 order of the displacement times the field gradients). Without ``free_surface`` it is for
-confined or periodic flows. Refused with the Riemann formulation (``check``: still water
-under both grew unstable).
+confined or periodic flows. Nor are their volumes: a shift moves a particle without its
+evolved density following, and still water's volume drifts (the level rose 3-8 dx in 3-6 s
+without artificial viscosity, in either formulation; viscosity slows it; docs/validation.md,
+"delta+-SPH"). Refused with the Riemann formulation (``check``), which runs without
+artificial viscosity by default.
 
 Walls: the particles of walls (dummy or any other) count in the sum like fluid ones,
 with their volume m_b / rho_b: they fill the space beyond the wall, so that next to a
@@ -102,11 +105,14 @@ class ParticleShifting(Term):
             raise InputError(f"particle_shifting needs shift_speed >= 0 (the reference flow speed, m/s), got {u!r}")
         if any(t.name == "riemann" for t in scene.terms):
             # measured: still water (1 m x 0.5 m, dx = 0.025, Wendland h = 2 dx, U = 3.2 m/s) went unstable,
-            # pressure rms 2 % of rho g H at 0.5 s, 12 % at 2 s, 35 % at 3 s (the symmetric form: 0.7-1.3 %)
+            # pressure rms 2 % of rho g H at 0.5 s, 12 % at 2 s, 35 % at 3 s. The cause, found later: shifting
+            # changes the particles' volumes and the evolved density does not follow, so the water's volume
+            # drifts, in either form; artificial viscosity slows it (the Riemann form runs without it by
+            # default: 81 % in 6 s with the spline; docs/validation.md, "delta+-SPH")
             raise InputError("particle_shifting cannot be used with the Riemann formulation: still water under "
-                             "both grew unstable (pressure error 35 % of rho g H in 3 s); use the symmetric form "
-                             "(formulation = \"symmetric\", Continuity + PressureGradient), where shifting with "
-                             "density diffusion is delta-plus-SPH")
+                             "both drifted (pressure error 35 % of rho g H in 3 s); use the symmetric form "
+                             "(formulation = \"symmetric\", Continuity + PressureGradient) with artificial "
+                             "viscosity, where shifting with density diffusion is delta-plus-SPH")
         cap = self.values.get("shift_cap")
         if cap is None or not 0 < cap <= 1:
             raise InputError(f"particle_shifting needs 0 < shift_cap <= 1 (the largest shift per step, in shift_dx), "
