@@ -250,9 +250,9 @@ def run_dam_break_to_the_end(dx, t_end=3.0, frames=30):
 def test_dam_break_runs_to_3_s_with_physical_speeds_and_no_compression(dx):
     """dam_break --solver dfsph with no other option to t = 3 s (through the impact, the
     run-up and the wave's return): no step's fastest fluid particle above 1.5 x the
-    flow's fastest physical speed (measured with the defaults: 9.5, 12.1, 13.0 m/s at
-    dx = 0.04, 0.02, 0.01; 16.9 at 0.005, docs/dfsph.md), the mean compression within 0.1 %
-    in every frame (measured at most 0.022 %), and the fluid mass accounted (fluid + removed = initial, 1e-12). The
+    flow's fastest physical speed (measured with the defaults: 9.9, 11.9, 13.3 m/s at
+    dx = 0.04, 0.02, 0.01; 13.7 at 0.005, docs/dfsph.md), the mean compression within 0.1 %
+    in every frame (measured at most 0.024 %), and the fluid mass accounted (fluid + removed = initial, 1e-12). The
     issue's run at dx = 0.01 had a particle at 3.5e5 m/s near t = 0.99 s."""
     sim, summary, speed, compression = run_dam_break_to_the_end(dx)
     assert summary.sim_time == pytest.approx(3.0)
@@ -274,7 +274,7 @@ def test_the_step_count_does_not_depend_on_writing_frames(dx):
 @pytest.mark.slow
 def test_dam_break_3d_runs_to_2_s():
     """dam_break_3d --solver dfsph at its default spacing to t = 2 s: no step faster than 1.5 x
-    the flow's speed (measured 10.6 m/s), compression within 0.1 % (0.006 %), mass accounted."""
+    the flow's speed (measured 10.9 m/s), compression within 0.1 % (0.006 %), mass accounted."""
     sim = taisph.Simulation(dfsph_scene("dam_break_3d"))
     maxima, compression = StepMaxima(), []
     summary = sim.run(2.0, frames=10, writers=[maxima], callback=lambda s: compression.append(mean_compression(s)))
