@@ -170,7 +170,9 @@ def test_a_reversing_flow_keeps_its_mass_and_its_spacing(periods):
     a successor spawned only with no particle within 0.8 dx, instead of 0.5 dx, gave
     -6.2 %); the closest two particles 0.51 dx over 3 periods and 0.43 dx over 10 (0.33
     and 0.26 before). Held at 1 % (2 periods) or 2.5 % (10; was 1 %) and 0.4 dx (was
-    0.25 dx) so that a regression shows; both zones must see flow both ways."""
+    0.25 dx) so that a regression shows; both zones must see flow both ways. With the
+    outlet's characteristic capped at the fluid's speed (2026-12-05): 0.60 % and 0.501 dx
+    over 10 periods, 0.35 % over 3."""
     scene, T = reversing(periods)
     sim = taisph.Simulation(scene)
     masses, closest = [], np.inf
