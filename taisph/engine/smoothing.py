@@ -195,13 +195,18 @@ def lattice_sum(name: str, dim: int, h: float, dx: float) -> float:
     density sum_j m_j W_ij of a particle inside a lattice of particles of mass rho dx^dim,
     over rho (1 for an exact quadrature; 1.0105 for Wendland C2 with h = 1.3 dx in 2D,
     0.99995 for the cubic spline)."""
-    kernel = make(name, dim)
-    reach = int(np.ceil(kernel.support * h / dx))
-    axis = np.arange(-reach, reach + 1) * dx
-    grid = np.stack(np.meshgrid(*([axis] * dim), indexing="ij"), -1).reshape(-1, dim)
+    kernel, grid = _lattice(name, dim, h, dx)
     q = np.linalg.norm(grid, axis=1) / h
     return float(kernel.sigma(dim) / h**dim * kernel.f_numpy(q).sum() * dx**dim)
 
+
+def _lattice(name: str, dim: int, h: float, dx: float):
+    """The kernel and the points of a cubic lattice of spacing dx around the origin that
+    its support reaches (the origin included)."""
+    kernel = make(name, dim)
+    reach = int(np.ceil(kernel.support * h / dx))
+    axis = np.arange(-reach, reach + 1) * dx
+    return kernel, np.stack(np.meshgrid(*([axis] * dim), indexing="ij"), -1).reshape(-1, dim)
 
 
 def lattice_moment(name: str, dim: int, h: float, dx: float) -> float:
@@ -211,16 +216,14 @@ def lattice_moment(name: str, dim: int, h: float, dx: float) -> float:
     along every axis). 1.0105 for the cubic spline with h = 1.3 dx in 2D, 1.0010 with
     h = 1.25 dx, 0.9908 with 1.2 dx; Wendland C2 with h = 2 dx: 0.9992. The derivative of
     the kernel's shape is taken by central differences (error ~1e-10)."""
-    kernel = make(name, dim)
-    reach = int(np.ceil(kernel.support * h / dx))
-    axis = np.arange(-reach, reach + 1) * dx
-    grid = np.stack(np.meshgrid(*([axis] * dim), indexing="ij"), -1).reshape(-1, dim)
+    kernel, grid = _lattice(name, dim, h, dx)
     r = np.linalg.norm(grid, axis=1)
     grid, r = grid[r > 0], r[r > 0]
     q, dq = r / h, 1e-6
     slope = (kernel.f_numpy(q + dq) - kernel.f_numpy(q - dq)) / (2 * dq)  # df/dq
     dw_dr = kernel.sigma(dim) / h ** (dim + 1) * slope
     return float(-np.sum(dw_dr * grid[:, 0] ** 2 / r) * dx**dim)
+
 
 _evaluators: dict = {}
 
