@@ -74,7 +74,12 @@ def _scene(task: Task):
         scene = scene_of(task.case, task.params)
         if scene is not None:
             return scene
-    factory = resolve_case(task.case)
+    case = task.case
+    if task.validate:  # a validation with a case's scene under another name (dam_break_front)
+        from ..validation.runs import SCENE_CASES
+
+        case = SCENE_CASES.get(case, case)
+    factory = resolve_case(case)
     accepted = inspect.signature(factory).parameters
     scene = factory(**{k: v for k, v in task.params.items() if k in accepted})
     if task.params.get("solver") is not None:  # a validation run's (taisph.validation.runs)
