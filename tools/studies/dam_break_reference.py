@@ -36,7 +36,7 @@ def main(argv=None):
     command = "python -m tools.studies.dam_break_reference" + "".join(f" {x}" for x in (argv or sys.argv[1:]))
     header = [
         f"The dam break's surge front computed by taisph at dx = {a.dx:g} m: the reference of the work-precision",
-        "study's case dam_break_front (a converged-resolution reference of the same model, not an experiment).",
+        "study's case dam_break_front (a fine-resolution solution of the same model, not an experiment).",
         "Case: taisph.cases.dam_break with its defaults (1 m x 2 m column in a 4 m tank, dummy walls with wall",
         "friction, delta-SPH 0.1, Monaghan alpha 0.1, cubic spline h = 1.3 dx, Tait c0 = 10 sqrt(2 g H),",
         "predictor-corrector, adaptive step with Courant 0.4).",
