@@ -140,6 +140,17 @@ def test_dam_break_short_run_uses_the_reference_points_it_reaches():
     assert "T <= 0.6" in out.error_name
 
 
+def test_dam_break_front_converges_towards_the_fine_solution():
+    """The front against the case's defaults at dx = 0.005 (the study's case dam_break_front;
+    references/data/dam_break_front_defaults_dx0.005.csv): from dx = 0.1 to 0.05 the error
+    falls by 0.66 (measured 0.253 -> 0.168), where against the experiments it does not
+    (docs/accuracy.md); held at <= 0.8."""
+    coarse = validation.run("dam_break_front", dx=0.1)
+    finer = validation.run("dam_break_front", dx=0.05)
+    assert finer.error <= 0.8 * coarse.error
+    assert finer.error == finer.metrics["fine_mean_abs"] and "dx = 0.005" in finer.error_name
+
+
 # --- long versions ------------------------------------------------------------------------------------------
 @pytest.mark.slow
 def test_dam_break_at_reference_resolution():
