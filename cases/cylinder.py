@@ -91,8 +91,10 @@ def cylinder(
     circles dx apart): at D/dx = 10 (continuity, 0.3 Pa) rings gave C_D +17 % and dp +6 %
     against +25 % and +14 %; not the default on one run.
 
-    At re = 100 (D/dx = 10, 6 s; docs/validation.md): vortex shedding at St 0.290
-    (reference 0.295-0.305), max C_D 3.83 against 3.22-3.24: too coarse for the bar.
+    At re = 100 (docs/validation.md, "Re 100"): at D/dx = 20 (the default dx) to 6 s,
+    vortex shedding at St 0.297 (reference 0.295-0.305), max C_D 3.66 against 3.22-3.24
+    (+13 %); at D/dx = 10 the run stops at t = 4.25 s (2026-12-06: a sparse patch of the
+    outlet's buffer brought in by the reversed flow at the top corner).
 
     Probes (written by ``python -m taisph cylinder`` to OUT/probes.csv): the force of
     the fluid on the cylinder "cylinder" (pressure and viscous, N/m, every `every`
