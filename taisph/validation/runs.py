@@ -142,10 +142,10 @@ def dam_break(precision=None, T_end: float = 3.1, samples: int = 32, against: st
     ko = ko[ko[:, 0] <= T_end + 1e-9]
     mm = mm[mm[:, 0] <= T_end + 1e-9]
     hh = hh[hh[:, 0] <= T_end / math.sqrt(2) + 1e-9]
-    samples = sorted({*(ko[:, 0] / scale_T), *(mm[:, 0] / scale_T), *(hh[:, 0] / math.sqrt(g / L)),
-                      *np.linspace(0, T_end / scale_T, samples)})
+    times = sorted({*(ko[:, 0] / scale_T), *(mm[:, 0] / scale_T), *(hh[:, 0] / math.sqrt(g / L)),
+                    *np.linspace(0, T_end / scale_T, samples)})
     front, height = {}, {}
-    for t in samples:
+    for t in times:
         if not run.advance(t):
             break
         x = run.sim.positions()[run.sim.fluid]
