@@ -44,6 +44,7 @@ import taichi as ti
 
 import taisph
 from tools.benchmarks.bench_reference import flagship, setup as reference_setup
+from tools.benchmarks.machine import cpu
 from tools.peers.compare_splishsplash import SPLISHSPLASH_PYTHON_ENV, splishsplash_python
 from tools.peers.compare_splishsplash import compare as compare_splishsplash
 
@@ -154,6 +155,7 @@ def main(argv=None):
     print(f"# taisph {taisph.__version__}, taichi {ti.__version__}, {platform.python_version()}, "
           f"{platform.machine()}, {os.cpu_count()} cores, {rt.threads} thread(s), {rt.precision}, "
           f"arch {rt.arch}, {time.strftime('%Y-%m-%d %H:%M')}")
+    print(f"# processor: {cpu()}")
     print(f"# command: python -m tools.benchmarks.bench {' '.join(sys.argv[1:] if argv is None else argv)}")
     if args.compare_splishsplash:  # in its own module: tools/peers/compare_splishsplash.py
         compare_splishsplash(splishsplash_python(args.splishsplash_python), dx=args.dx, tfs=(0.2, 1.0),

@@ -31,6 +31,8 @@ import sys
 import time
 from importlib.util import find_spec
 
+from tools.benchmarks.machine import cpu
+
 SPLISHSPLASH_PYTHON_ENV = "TAISPH_SPLISHSPLASH_PYTHON"
 LIBGL_ENV = "TAISPH_SPLISHSPLASH_LIBGL"
 
@@ -159,6 +161,7 @@ def main(argv=None):
     args = p.parse_args(argv)
     maps = [tuple(int(n) for n in m.split("x")) for m in args.maps.split(",")]
     tolerances = (None,) if args.also_tolerance is None else (None, args.also_tolerance)
+    print(f"# processor: {cpu()}, {time.strftime('%Y-%m-%d %H:%M')}", flush=True)
     compare(splishsplash_python(args.splishsplash_python), args.dx, args.tf, args.precision, args.libgl,
             tolerances, maps, [float(f) for f in args.cfl_factors.split(",")])
 
