@@ -248,7 +248,7 @@ def test_cli_sweeps_a_scene_file(tmp_path, capsys):
     (["nothere.toml", "--vary", "dx=0.1"], "nothere.toml: no such scene file"),
     (["dam_break_probes_2d.toml", "--vary", "dxx=0.1"], "cases/dam_break_probes_2d.toml has no parameter 'dxx'; "
                                                         "allowed are case parameters: dx, t_end, frames, "
-                                                        "integrator, kernel, h_factor, alpha, delta, xsph, shifting;"),
+                                                        "integrator, kernel, h_factor, alpha, delta, xsph, shifting, density_relaxation;"),
     (["dam_break_probes_2d.toml", "--vary", "dx=0.1,-1"], "cases/dam_break_probes_2d.toml: dx must be in (0, 1000], got -1.0"),
 ])
 def test_bad_input_is_refused_before_any_run(tmp_path, capsys, argv, message):

@@ -150,7 +150,7 @@ _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].m
               "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
               "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation",
               "laminar_viscosity": "physics.nu", "particle_shifting": "physics.shifting", "open_boundaries": "open_boundaries",
-              "rigid_bodies": "bodies"}
+              "rigid_bodies": "bodies", "density_relaxation": "physics.density_relaxation"}
 
 
 def _validate(spec, scene):
@@ -176,6 +176,7 @@ def _validate(spec, scene):
         values = {"walls[0].model": spec.wall_model, "physics.gravity": list(spec.gravity), "physics.alpha": spec.alpha,
                   "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
                   "physics.formulation": spec.formulation, "physics.nu": spec.nu, "physics.shifting": spec.shifting,
+                  "physics.density_relaxation": spec.density_relaxation,
                   "open_boundaries": [z.name for z in spec.open_boundaries or ()], "bodies": [b.name for b in spec.bodies or ()],
                   "materials": [m["name"] for m in spec.materials]}
         raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
@@ -197,8 +198,8 @@ def _terms(spec, g, height, speed):
     """The scene's terms; gravity `g`, the fluid's `height` and its fastest initial
     `speed` scale the Lennard-Jones force."""
     from ..terms import (XSPH, AdamiWall, ArtificialViscosity, Continuity, ContinuityColagrossi, DensityDiffusion,
-                         Gravity, LaminarViscosity, LennardJonesWall, ParticleShifting, PressureGradient, PressureHuAdams,
-                         Riemann)
+                         DensityRelaxation, Gravity, LaminarViscosity, LennardJonesWall, ParticleShifting,
+                         PressureGradient, PressureHuAdams, Riemann)
 
     dummy = spec.wall_model == "dummy"
     if spec.formulation == "riemann" and spec.multiphase:
@@ -229,6 +230,8 @@ def _terms(spec, g, height, speed):
         terms.append(XSPH(xsph_eps=spec.xsph))
     if spec.shifting > 0:  # delta-plus-SPH's shifting (Sun et al. 2017), kept off free surfaces by their rule
         terms.append(ParticleShifting(shift_speed=spec.shifting, free_surface=True))
+    if spec.density_relaxation > 0:  # the evolved density pulled towards the summed one over tau
+        terms.append(DensityRelaxation(relaxation_time=spec.density_relaxation))
     return terms
 
 
@@ -350,7 +353,7 @@ def _wall_points(spec, block):
 # The keys of a scene file a sweep may set or vary, as case parameters: name -> file key
 SWEEP_KEYS = {"dx": "dx", "t_end": "t_end", "frames": "frames", "integrator": "integrator", "kernel": "kernel",
               "h_factor": "h_factor", "alpha": "physics.alpha", "delta": "physics.delta", "xsph": "physics.xsph",
-              "shifting": "physics.shifting"}
+              "shifting": "physics.shifting", "density_relaxation": "physics.density_relaxation"}
 
 
 def scene_factory(path):

@@ -44,15 +44,15 @@ RANGES = {
     "gamma": tait_exponent, "velocity": velocity_component, "scale": positive, "model": one_of("dummy", "lj"),
     "kind": PROBE_RANGES["kind"], "every": PROBE_RANGES["every"], "walls.kind": one_of(*WALL_KINDS),
     "physics.formulation": known_formulation, "physics.nu": between(0, 100), "physics.shifting": between(0, 1000),
-    "pressure": between(0, 1e9)}
+    "physics.density_relaxation": between(0, 1e6), "pressure": between(0, 1e9)}
 # The values of the keys a file may leave out (gravity: (0, -9.81) or (0, -9.81, 0))
 DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1, "physics.delta": 0.1,
-            "physics.xsph": 0.0, "physics.nu": 0.0, "physics.shifting": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
+            "physics.xsph": 0.0, "physics.nu": 0.0, "physics.shifting": 0.0, "physics.density_relaxation": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor", "dt",
             "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", "open_boundaries", "bodies",
             *timestep.SETTABLE}
-PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation", "nu", "shifting"}
+PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation", "nu", "shifting", "density_relaxation"}
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
 SHAPES = ("box", "mesh", "polygon")
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic", "pressure"}
@@ -111,6 +111,7 @@ class SceneSpec:
     xsph: float
     nu: float  # the laminar viscosity's kinematic viscosity (m^2/s; 0: none)
     shifting: float  # particle shifting's reference speed U (m/s; 0: none), with the free-surface rule
+    density_relaxation: float  # DensityRelaxation's relaxation time tau (s; 0: none)
     materials: list  # of dicts: name, rho0, c0 (None: default), gamma
     fluid: list
     walls: list
@@ -247,7 +248,7 @@ class _Checker:
             remove_escaped=self.flag("remove_escaped", data.get("remove_escaped", _MISSING), True),
             gravity=self.vector("physics.gravity", gravity, dim, RANGES["physics.gravity"]),
             **{k: self.number(f"physics.{k}", physics.get(k, DEFAULTS[f"physics.{k}"]), RANGES[f"physics.{k}"])
-               for k in ("alpha", "delta", "xsph", "nu", "shifting")},
+               for k in ("alpha", "delta", "xsph", "nu", "shifting", "density_relaxation")},
             materials=self.materials(data.get("materials", [{"name": "water"}])),
             fluid=[], walls=[], probes=[],
         )

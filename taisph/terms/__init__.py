@@ -8,6 +8,7 @@ from .continuity import Continuity
 from .continuity_colagrossi import ContinuityColagrossi
 from .damping_zone import DampingZone
 from .density_diffusion import DensityDiffusion
+from .density_relaxation import DensityRelaxation
 from .energy import InternalEnergy
 from .gravity import Gravity
 from .laminar_viscosity import LaminarViscosity
@@ -40,6 +41,7 @@ __all__ = [
     "AdamiWall",
     "LaminarViscosity",
     "DensityDiffusion",
+    "DensityRelaxation",
     "ParticleShifting",
     "Riemann",
     "DampingZone",
