@@ -87,3 +87,16 @@ def test_a_scene_file_sets_it_with_physics_density_relaxation(tmp_path):
     path.write_text(text.format(tau=-1.0))
     with pytest.raises(SceneFileError, match="physics.density_relaxation"):
         load(path)
+
+
+def test_its_code_is_compiled_only_where_it_is_listed():
+    from taisph.engine import assembly, kernels
+
+    traced = []
+    for terms in ([Continuity(), PressureGradient()],
+                  [Continuity(), PressureGradient(), DensityRelaxation(relaxation_time=0.01)]):
+        assembly._cache.clear()
+        kernels.TRACED.clear()
+        taisph.Simulation(box((True, True), 0.01, 0.0, terms=terms)).step(1)
+        traced.append({role for name, role in kernels.TRACED if name == "density_relaxation"})
+    assert traced == [set(), {"pass", "body"}]
