@@ -27,9 +27,12 @@ ids in every run):
   buffer particle is placed ``depth`` behind it (the zone stays filled, on the lattice);
 - a fluid particle that crossed the face out of the fluid becomes a buffer particle;
 - a buffer particle beyond the zone's far side (or beside it) is retired: its slot is
-  reused (the particle arrays are compacted in the same loop); so is one, in a zone whose
-  velocity is extrapolated, with an older particle of its zone within half a spacing
-  (fluid that flowed out is no lattice, and would bring its crowded pairs back in).
+  reused (the particle arrays are compacted in the same loop);
+- the buffer is kept a lattice's spacing (:mod:`taisph.terms.open_boundary_buffer`): a
+  buffer particle with an older one of its zone within dx/2 is retired, and, where the
+  density is summed, a hole among the zone's lattice sites gets a new one (water that
+  flowed out is no lattice, and would bring its crowded pairs and holes back in when the
+  flow turns).
 
 So every zone works in both directions (bidirectional): a pressure outlet where a
 vortex brings fluid back feeds that fluid in, and an inlet whose flow reverses
@@ -50,6 +53,7 @@ from ..engine import status as st
 from ..engine.layout import FLUID
 from ..messages import InputError
 from .base import Term
+from .open_boundary_buffer import BufferUpkeep
 from .open_boundary_values import Fit, fitted, table_velocity
 
 ZONE_ROW = "open_zone"  # integer row: 0 in the fluid, k + 1 in zone k's buffer
@@ -58,19 +62,6 @@ FACE_SAMPLES = {2: 65, 3: 17}  # samples of a profile or function along each fac
 TIME_SAMPLES = 513  # samples of a time table or function over its span
 PRESCRIBED, EXTRAPOLATED = "prescribed", "extrapolated"
 PROFILES = ("uniform", "parabolic")
-
-
-@ti.data_oriented
-class _OlderInZone:
-    """Counts, into acc[0], the neighbours in zone acc[1]'s buffer with an id below acc[2]."""
-
-    def __init__(self, q):
-        self.q = q
-
-    @ti.func
-    def visit(self, s: ti.template(), i, j, rij, r2, acc: ti.template()):
-        if s.Si[self.q.open_zone, j] == acc[1] and s.Si[self.q.id, j] < acc[2]:
-            acc[0] += 1
 
 
 _ZoneRows = collections.namedtuple("ZoneRows", "origin normal axis1 axis2 length1 length2 depth spacing pressure period "
@@ -116,7 +107,8 @@ class OpenBoundaries(Term):
     def refresh(self):
         """Recompute the parameter values from the zones (after a zone was added or changed)."""
         self._declare()
-        self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in self.zones)}
+        self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in self.zones),
+                        **{k: v for k, v in self.options.items() if k == "fill_holes"}}
         self.values = {}
         offset = 0
         self._tables = []
@@ -174,19 +166,23 @@ class OpenBoundaries(Term):
         if "adaptive_h" in scene.terms_by_name:
             raise InputError("open boundaries need a constant smoothing length (not adaptive_h): their buffers "
                              "are laid out on the lattice of the scene's dx")
+        # a summed density reads a hole of a buffer at once, as a light entrant; an evolved one
+        # does not, and there filling them fed mass in (open_boundary_buffer)
+        self.options["fill_holes"] = "summation_density" in scene.terms_by_name
         if type(scene.eos).__name__ != "Tait":
             raise InputError("open boundaries need the Tait equation of state (their density comes from the "
                              "prescribed or extrapolated pressure by its inverse)")
 
     def reserve(self, scene) -> int:
         """Free particle slots to keep ahead of a batch of steps (up to 128): every
-        buffer particle once, and each face's row more than 32 times (a row crosses a
-        face at most every few steps: |u| dt is a small part of dx)."""
+        buffer particle twice (successors, and the holes of a buffer refilled by water
+        that flowed out), and each face's row more than 32 times (a row crosses a face
+        at most every few steps: |u| dt is a small part of dx)."""
         total = 0
         for z in self.zones:
             _, _, lengths = z.frame(self.dim)
             row = int(np.prod([round(length / self.dx) for length in lengths]))
-            total += row * (z.layers + 32)
+            total += row * (2 * z.layers + 32)
         return total
 
     # --- compile time ---------------------------------------------------------------
@@ -315,10 +311,10 @@ class OpenBoundaries(Term):
         q, grid = self.q, solver.grid
         copy = copy_rows(solver)
         counter = _CountPairs(q)  # how many particles lie within the radius asked for
-        older = _OlderInZone(q)
+        upkeep = BufferUpkeep(self, solver, copy)
         n_zones, dim = len(self.zones), self.dim
         prev_v, prev_s = self.prev_v, self.prev_s
-        modes = self.modes
+        fill_holes = self.options.get("fill_holes", False)
 
         @ti.func
         def body(s: ti.template(), t_target):
@@ -329,6 +325,7 @@ class OpenBoundaries(Term):
                     n = s.sizes[st.N_PARTICLES]
                     capacity = s.Cv.shape[1]
                     kept, made = 0, 0
+                    template = ti.Vector([-1] * n_zones)  # a kept buffer particle of each zone
                     for i in range(n):
                         keep = True
                         if s.Ci[q.kind, i] == FLUID:
@@ -374,26 +371,21 @@ class OpenBoundaries(Term):
                                             s.flags[st.NO_ROOM] += 1
                                     elif distance <= -depth or beside:  # past the far side: retired
                                         keep = False
-                                    elif ti.static(modes[z][0] == EXTRAPOLATED):
-                                        # thinned: a buffer particle with an older one of its zone within
-                                        # half a spacing is retired (its mass left the fluid already). Fluid
-                                        # that flows out does not keep the lattice, and when the flow turned
-                                        # the crowded pairs came back in: the cylinder at Re 100 stopped at
-                                        # 3.8 s (a particle 24 % dense at the outlet's corner); with this it
-                                        # ran to 6 s. Only where the velocity is extrapolated: a prescribed
-                                        # buffer moves as a lattice
-                                        spacing = s.params[self.rows[z].spacing]
-                                        crowd = ti.Vector([0, zone, s.Ci[q.id, i]])
-                                        grid.for_each_neighbour(s, -1, x, 0.25 * spacing * spacing, older, crowd)
-                                        if crowd[0] > 0:
-                                            keep = False
+                                    elif upkeep.crowded(s, zone, x, s.Ci[q.id, i]):
+                                        keep = False  # thinned (open_boundary_buffer)
                         if keep:
                             if kept != i:
                                 copy(s.C, i, s.C, kept)
+                            for z in ti.static(range(n_zones)):
+                                if s.Ci[q.open_zone, kept] == z + 1:
+                                    template[z] = kept
                             kept += 1
                     for k in range(made):  # the new ones, after the kept ones
                         if kept != n:
                             copy(s.C, n + k, s.C, kept + k)
+                    for z in ti.static(range(n_zones)):  # the buffers' holes filled (open_boundary_buffer)
+                        if ti.static(fill_holes) and template[z] >= 0:
+                            made += upkeep.fill(s, z, template[z], kept + made, capacity)
                     s.sizes[st.N_PARTICLES] = kept + made
 
         return body
