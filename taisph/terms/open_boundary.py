@@ -175,14 +175,14 @@ class OpenBoundaries(Term):
 
     def reserve(self, scene) -> int:
         """Free particle slots to keep ahead of a batch of steps (up to 128): every
-        buffer particle twice (successors, and the holes of a buffer refilled by water
-        that flowed out), and each face's row more than 32 times (a row crosses a face
-        at most every few steps: |u| dt is a small part of dx)."""
+        buffer particle once (twice where holes are filled), and each face's row more
+        than 32 times (a row crosses a face at most every few steps: |u| dt is a small
+        part of dx)."""
         total = 0
         for z in self.zones:
             _, _, lengths = z.frame(self.dim)
             row = int(np.prod([round(length / self.dx) for length in lengths]))
-            total += row * (2 * z.layers + 32)
+            total += row * ((2 if self.options.get("fill_holes") else 1) * z.layers + 32)
         return total
 
     # --- compile time ---------------------------------------------------------------
@@ -358,17 +358,8 @@ class OpenBoundaries(Term):
                                         crowd = 0
                                         grid.for_each_neighbour(s, -1, behind, 0.25 * spacing * spacing, counter,
                                                                 crowd)
-                                        if crowd > 0:
-                                            pass
-                                        elif slot < capacity:
-                                            copy(s.C, i, s.C, slot)
-                                            s.Cv[q.position, slot] = behind
-                                            s.Ci[q.open_zone, slot] = zone
-                                            s.Ci[q.id, slot] = s.flags[st.NEXT_ID]
-                                            s.flags[st.NEXT_ID] += 1
-                                            made += 1
-                                        else:
-                                            s.flags[st.NO_ROOM] += 1
+                                        if crowd == 0:
+                                            made += upkeep.place(s, i, slot, capacity, behind, zone)
                                     elif distance <= -depth or beside:  # past the far side: retired
                                         keep = False
                                     elif upkeep.crowded(s, zone, x, s.Ci[q.id, i]):
@@ -376,16 +367,18 @@ class OpenBoundaries(Term):
                         if keep:
                             if kept != i:
                                 copy(s.C, i, s.C, kept)
-                            for z in ti.static(range(n_zones)):
-                                if s.Ci[q.open_zone, kept] == z + 1:
-                                    template[z] = kept
+                            if ti.static(fill_holes):
+                                for z in ti.static(range(n_zones)):
+                                    if s.Ci[q.open_zone, kept] == z + 1:
+                                        template[z] = kept
                             kept += 1
                     for k in range(made):  # the new ones, after the kept ones
                         if kept != n:
                             copy(s.C, n + k, s.C, kept + k)
-                    for z in ti.static(range(n_zones)):  # the buffers' holes filled (open_boundary_buffer)
-                        if ti.static(fill_holes) and template[z] >= 0:
-                            made += upkeep.fill(s, z, template[z], kept + made, capacity)
+                    if ti.static(fill_holes):  # the buffers' holes filled (open_boundary_buffer)
+                        for z in ti.static(range(n_zones)):
+                            if template[z] >= 0:
+                                made += upkeep.fill(s, z, template[z], kept + made, capacity)
                     s.sizes[st.N_PARTICLES] = kept + made
 
         return body

@@ -16,8 +16,9 @@ spacing to that of a lattice without moving any particle:
 - **filling**, in scenes whose density is summed (``SummationDensity``; with an evolved
   density a hole that enters is not read as a density, and filling fed mass in: issue
   27's reversing stream gained 1.17 % of its mass in two periods against 1.015 %
-  without, all of it from the outlet): a point of the zone's own lattice sites (the rows of its initial buffer,
-  fixed in space, all but the farthest) that is a *hole* gets a new buffer particle, a
+  without, all of it from the outlet): a point of the zone's own lattice sites (the
+  rows of its initial buffer, fixed in space, all but the farthest) that is a *hole*
+  gets a new buffer particle, a
   copy of one of the zone's (mass, material), whose velocity and density the next step
   imposes. A hole: no particle within ``FILL * dx``; a kernel sum sum_j W dx^dim below
   ``SPARSE`` (1 inside a lattice; a summed density that low is where the density guard
@@ -134,14 +135,22 @@ class BufferUpkeep:
                     found = ti.Vector([0.0, 0.0, 0.0, spacing])
                     self.grid.for_each_neighbour(s, -1, site, s.params[self.p_support2], self.around, found)
                     if found[0] < SPARSE and found[1] >= surrounded and found[2] == 0.0:
-                        slot = first + made
-                        if slot < capacity:
-                            self.copy(s.C, template, s.C, slot)
-                            s.Cv[self.q.position, slot] = site
-                            s.Ci[self.q.open_zone, slot] = z + 1
-                            s.Ci[self.q.id, slot] = s.flags[st.NEXT_ID]
-                            s.flags[st.NEXT_ID] += 1
-                            made += 1
-                        else:
-                            s.flags[st.NO_ROOM] += 1
+                        made += self.place(s, template, first + made, capacity, site, z + 1)
         return made
+
+    @ti.func
+    def place(self, s: ti.template(), source, slot, capacity, position, zone) -> int:
+        """A new buffer particle of `zone` (1-based) at `position`: a copy of particle
+        `source` of ``C`` into `slot`, with the next id; 1, or 0 without room (counted in
+        ``NO_ROOM``: the run stops saying how many it could not create)."""
+        placed = 0
+        if slot < capacity:
+            self.copy(s.C, source, s.C, slot)
+            s.Cv[self.q.position, slot] = position
+            s.Ci[self.q.open_zone, slot] = zone
+            s.Ci[self.q.id, slot] = s.flags[st.NEXT_ID]
+            s.flags[st.NEXT_ID] += 1
+            placed = 1
+        else:
+            s.flags[st.NO_ROOM] += 1
+        return placed
