@@ -36,7 +36,7 @@ def cylinder(
     delta: float = 0.1,
     shifting: bool = True,
     every: int = 10,
-    surface: str = "lattice",
+    surface: str = "rings",
     density: str = "summation",
     t_end: float = 8.0,
     frames: int = 16,
@@ -57,13 +57,15 @@ def cylinder(
     over `ramp` seconds (a (t, speed) table), then holds: no impulsive start.
 
     Walls: dummy particles (Adami et al. 2012) with no-slip velocity and extrapolated
-    pressure, along the channel and both open buffers, and the cylinder: the lattice
-    points (the fluid's lattice, dx apart) inside the circle r < D/2, a kernel support
-    deep (wall group "cylinder"); fluid: the lattice points with r >= D/2. dx must
-    divide 0.01 m (D/dx = 10, 20, 30, 40...): the walls, the faces and the cylinder's
-    centre then lie on cell corners. Morris laminar viscosity, Wendland kernel with
-    h = 1.3 dx, predictor-corrector, and by default (measured, docs/validation.md, "Flow
-    past a cylinder"; D/dx = 20: C_D +1.7 %, dp +1.7 %):
+    pressure, along the channel and both open buffers, and the cylinder (wall group
+    "cylinder"), a kernel support deep: `surface` = "rings" (default), concentric
+    circles of particles dx apart at radii D/2 - dx/2, D/2 - 3 dx/2, ..., or "lattice",
+    the fluid lattice's points inside the circle r < D/2 (a staircase); fluid: the
+    lattice points with r >= D/2. dx must divide 0.01 m (D/dx = 10, 20, 30, 40...): the
+    walls, the faces and the cylinder's centre then lie on cell corners. Morris laminar
+    viscosity, Wendland kernel with h = 1.3 dx, predictor-corrector, and by default
+    (measured, docs/validation.md, "Flow past a cylinder"; D/dx = 20: C_D +0.6 %,
+    dp +1.3 %):
 
     - `density` = "summation" (the fluid's density summed over its neighbours and the
       walls, normalised by the kernel's sum over the lattice: SummationDensity(walls=True,
@@ -87,14 +89,13 @@ def cylinder(
     samples 1.6 against 0.5-0.75 with the continuity equation; the means are steady).
     `c0` (default 30 U_max = 9 m/s at re = 20: 20 x the fastest speed, ~1.5 U_max):
     with 15 U_max the acoustic noise overfilled the inlet buffer (continuity, 0.3 Pa).
-    `surface`: "lattice" (the staircase above) or "rings" (wall particles on concentric
-    circles dx apart): at D/dx = 10 (continuity, 0.3 Pa) rings gave C_D +17 % and dp +6 %
-    against +25 % and +14 %; not the default on one run.
+    `surface`: rings are the default since the staircase's maximum drag at Re 100 missed
+    the benchmark's bar (+13 % at D/dx = 20, rings +8.7 %; their force is quieter); at
+    Re 20 both meet it (D/dx = 20: rings C_D +0.6 %, dp +1.3 %; staircase +1.5 %, -0.7 %).
 
     At re = 100 (docs/validation.md, "Re 100"): at D/dx = 20 (the default dx) to 6 s,
-    vortex shedding at St 0.297 (reference 0.295-0.305), max C_D 3.66 against 3.22-3.24
-    (+13 %); at D/dx = 10 the run stops at t = 4.25 s (2026-12-06: a sparse patch of the
-    outlet's buffer brought in by the reversed flow at the top corner).
+    vortex shedding at St 0.297 (reference 0.295-0.305), max C_D 3.51 against 3.22-3.24
+    (+8.7 %), max C_L 1.03 (0.99-1.01), over the last 2 s.
 
     Probes (written by ``python -m taisph cylinder`` to OUT/probes.csv): the force of
     the fluid on the cylinder "cylinder" (pressure and viscous, N/m, every `every`
