@@ -91,7 +91,7 @@ def cylinder(
     with 15 U_max the acoustic noise overfilled the inlet buffer (continuity, 0.3 Pa).
     `surface`: rings are the default since the staircase's maximum drag at Re 100 missed
     the benchmark's bar (+13 % at D/dx = 20, rings +8.7 %; their force is quieter); at
-    Re 20 both meet it (D/dx = 20: rings C_D +0.6 %, dp +1.3 %; staircase +1.5 %, -0.7 %).
+    Re 20 both meet it (D/dx = 20: rings C_D +0.6 %, dp +1.3 %; staircase +1.5 %, +3.8 %).
 
     At re = 100 (docs/validation.md, "Re 100"): at D/dx = 20 (the default dx) to 6 s,
     vortex shedding at St 0.297 (reference 0.295-0.305), max C_D 3.51 against 3.22-3.24
