@@ -126,7 +126,7 @@ def test_shedding_at_re_100_at_twenty_particles_per_diameter():
     issue's bars. Measured (2026-12-06, one thread, 5 994 s; `cylinder_study --re 100`,
     docs/validation.md, "Re 100"): St 0.297, max C_D 3.51 (+8.7 %), max C_L 1.03, mean
     C_D 3.41 (still rising slowly: 3.31 over 2-4 s), mass -0.0 %. The longest test of the
-    slow suite (about 1.5 h on two threads)."""
+    slow suite: 40 min to 1.7 h here (the staircase's run on two threads took 2 451 s)."""
     re, t_end = 100.0, 6.0
     scene = taisph.cases.cylinder(dx=0.005, re=re, t_end=t_end)
     probes = Probes(scene.probes, walls=scene.wall_groups)
