@@ -38,20 +38,23 @@ def cylinder(run, params):
     run.advance(scene.t_end, writers=[probes])
     if run.diverged:
         return run.outcome("cylinder", params, math.inf, ERROR_NAME, {}, {})
-    t, force = probes.series("cylinder")
-    _, front = probes.series("p_front")
-    _, back = probes.series("p_back")
-    last = t > t[-1] - WINDOW
-    q = 0.5 * RHO * (re * NU / DIAMETER) ** 2 * DIAMETER
-    c_d, c_l = float(force[last, 0].mean() / q), float(force[last, 1].mean() / q)
-    dp = float((front - back)[last].mean())
+    c = coefficients(probe_table(probes), re)
+    last = c["t"] > c["t"][-1] - WINDOW
+    c_d, c_l, dp = (float(c[k][last].mean()) for k in ("C_D", "C_L", "dp"))
     metrics = {"C_D": c_d, "C_L": c_l, "dp": dp, "dp_rel_error": dp / REFERENCE_RE20["dp"] - 1.0,
                "C_D_rel_error": c_d / REFERENCE_RE20["C_D"] - 1.0,
                "mass_change": float(run.sim.masses()[run.sim.fluid].sum()) / mass0 - 1.0}
-    every = max(1, len(t) // 2000)  # the series, thinned to ~2 000 samples
-    series = {"t": list(map(float, t[::every])), "C_D": list(map(float, force[::every, 0] / q)),
-              "dp": list(map(float, (front - back)[::every]))}
+    every = max(1, len(c["t"]) // 2000)  # the series, thinned to ~2 000 samples
+    series = {k: list(map(float, c[k][::every])) for k in ("t", "C_D", "dp")}
     return run.outcome("cylinder", params, abs(c_d / REFERENCE_RE20["C_D"] - 1.0), ERROR_NAME, metrics, series)
+
+
+def probe_table(probes) -> dict:
+    """The case's probes as the columns of its probes.csv (for :func:`coefficients`), from a
+    :class:`taisph.probes.Probes` writer that took them in memory."""
+    t, force = probes.series("cylinder")
+    return {"time": t, "cylinder_x": force[:, 0], "cylinder_y": force[:, 1],
+            "p_front": probes.series("p_front")[1], "p_back": probes.series("p_back")[1]}
 
 
 def coefficients(table: dict, re: float) -> dict:
