@@ -4,13 +4,14 @@ match Poiseuille's parabola, a reversing flow keeps its mass and its spacing, an
 zones are refused before anything is built."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 
 import taisph
 from taisph.geometry import lattice
-from taisph.messages import InputError
+from taisph.messages import InputError, TaisphWarning
 from taisph.scene import Material, Scene
 from taisph.terms import (Continuity, DensityDiffusion, DensityRelaxation, LaminarViscosity, PressureGradient,
                           SummationDensity)
@@ -215,6 +216,18 @@ def test_with_the_density_relaxed_a_reversing_flow_keeps_its_mass(periods):
     assert np.abs(means / means[0] - 1.0).max() <= 0.005
     assert closest >= 0.5 * DX
     assert mass_in > 0.3 * means[0] and mass_out > 0.3 * means[0]
+
+
+def test_a_zone_that_extrapolates_the_velocity_is_warned_of_without_viscosity():
+    """Water entering through such a zone runs apart into jets without viscosity
+    (docs/open_boundaries.md): the scene says so when it is checked, and not when the
+    fluid is viscous or every zone prescribes its velocity."""
+    with pytest.warns(TaisphWarning, match="outlet extrapolate the velocity"):
+        reversing(1, viscous=False)[0].validate()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", TaisphWarning)
+        reversing(1)[0].validate()
+        stream(inlet={"velocity": 0.01}, outlet={"velocity": 0.01}).validate()
 
 
 def test_a_scene_without_zones_compiles_none_of_their_code():

@@ -45,13 +45,14 @@ grows ahead of need (:meth:`taisph.engine.state.State.ensure_room`).
 
 
 import collections
+import warnings
 
 import numpy as np
 import taichi as ti
 
 from ..engine import status as st
 from ..engine.layout import FLUID
-from ..messages import InputError
+from ..messages import InputError, TaisphWarning
 from .base import Term
 from .open_boundary_buffer import BufferUpkeep
 from .open_boundary_values import Fit, fitted, table_velocity
@@ -172,6 +173,12 @@ class OpenBoundaries(Term):
         if type(scene.eos).__name__ != "Tait":
             raise InputError("open boundaries need the Tait equation of state (their density comes from the "
                              "prescribed or extrapolated pressure by its inverse)")
+        extrapolated = [z.name for z in self.zones if z.velocity_mode == EXTRAPOLATED]
+        if extrapolated and "laminar_viscosity" not in scene.terms_by_name:
+            warnings.warn(f"scene {scene.name!r}: open boundary zone(s) {', '.join(extrapolated)} extrapolate the "
+                          "velocity and the scene has no LaminarViscosity: water flowing in through them runs apart "
+                          "into jets without it (stable at U dx / nu ~ 1, not at 10; docs/open_boundaries.md)",
+                          TaisphWarning, stacklevel=2)
 
     def reserve(self, scene) -> int:
         """Free particle slots to keep ahead of a batch of steps (up to 128): every
