@@ -176,9 +176,9 @@ class OpenBoundaries(Term):
         extrapolated = [z.name for z in self.zones if z.velocity_mode == EXTRAPOLATED]
         if extrapolated and "laminar_viscosity" not in scene.terms_by_name:
             warnings.warn(f"scene {scene.name!r}: open boundary zone(s) {', '.join(extrapolated)} extrapolate the "
-                          "velocity and the scene has no LaminarViscosity: water flowing in through them runs apart "
-                          "into jets without it (stable at U dx / nu ~ 1, not at 10; docs/open_boundaries.md)",
-                          TaisphWarning, stacklevel=2)
+                          "velocity and the scene has no LaminarViscosity (nu in a scene file): water flowing in "
+                          "through them runs apart into jets without it (stable at U dx / nu ~ 1, not at 10; "
+                          "docs/open_boundaries.md)", TaisphWarning, stacklevel=2)
 
     def reserve(self, scene) -> int:
         """Free particle slots to keep ahead of a batch of steps (up to 128): every
