@@ -93,8 +93,12 @@ def dam_break(
     ``taisph.terms.Riemann``, the scene files' default for one fluid under WCSPH): a smoother
     wall pressure at the same front on the Buchner dam break (docs/validation.md, "What sets
     the wall pressure"), at x1.1-1.6 the cost per step, and with the engine's Courant number
-    0.25 (0.4 stopped the run at t = 0.02 s). This case keeps the symmetric form by default:
-    its front and column-height figures, tests and studies were measured with it.
+    0.25 (0.4 stopped the run at t = 0.02 s). This case keeps the symmetric form and the wall
+    friction by default: on Buchner's sensors formulation="riemann" with wall_friction=False
+    gives P1 0.115 against 0.251 rho g H and the impact on time (+2.6 % against +23.7 %), and the
+    front nearer a fine solution's (0.037 against 0.080), but Koshizuka & Oka's front farther
+    (0.244 against 0.151) at about 1.9 times the wall time (dx = 0.02; docs/validation.md, "The
+    Python case's defaults on Buchner's sensors"): use those two settings for wall loads.
 
     shifting: particle shifting's reference speed U (m/s; 0, the default: none), with the
     free-surface rule (``taisph.terms.ParticleShifting(free_surface=True)``); with density
