@@ -97,7 +97,7 @@ def dam_break(
     friction by default: on Buchner's sensors formulation="riemann" with wall_friction=False
     gives P1 0.115 against 0.251 rho g H and the impact on time (+2.6 % against +23.7 %), and the
     front nearer a fine solution's (0.037 against 0.080), but Koshizuka & Oka's front farther
-    (0.244 against 0.151) at about 1.9 times the wall time (dx = 0.02; docs/validation.md, "The
+    (0.244 against 0.151) at about 2.7 times the wall time (dx = 0.02; docs/validation.md, "The
     Python case's defaults on Buchner's sensors"): use those two settings for wall loads.
 
     shifting: particle shifting's reference speed U (m/s; 0, the default: none), with the
