@@ -34,7 +34,11 @@ IDLE = 15
 # buffer, and mass that left it into one, since the start
 MASS_IN = 16
 MASS_OUT = 17
-STATUS_SIZE = 18
+# open boundaries without viscosity: each zone's sum of its buffer particles' fitted normal
+# speeds and their count, this step (zone k at ZONE_SPEEDS + 2 k, up to MAX_ZONES zones)
+ZONE_SPEEDS = 18
+MAX_ZONES = 16
+STATUS_SIZE = ZONE_SPEEDS + 2 * MAX_ZONES
 
 # ``flags`` (i32): guard failures (taisph.engine.guards) and removed particles
 CODES = 0  # OR of the failure bits below

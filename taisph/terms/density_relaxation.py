@@ -19,7 +19,8 @@ without this term (of the first period's), and within 0.094 % (tau = 0.01 s) and
 (tau = 0.05 s, closest pair 0.505 dx) with it (2026-12-06, docs/open_boundaries.md). That
 stream was inviscid, and part of its walk was the outlet's inflow running into jets; with
 check 1's viscosity (nu = 2.5e-7 m^2/s) it keeps 0.21 % without the term and 0.125 % with
-it (tau = 0.01 s) at H/dx = 20, and at H/dx = 40 it holds 0.5 % only with it. The
+it (tau = 0.01 s) at H/dx = 20, and at H/dx = 40 it holds 0.5 % only with it; inviscid,
+with its inflow made uniform (2026-12-07), 1.27 % without the term and 0.207 % with it. The
 summed density alone (``SummationDensity``) restores the count too, but a particle entering
 from a sparse buffer reads it at once (25 % light: the run stopped at 0.43 s); here it
 keeps its evolved density until its support is full, and is then relaxed over tau.

@@ -45,23 +45,21 @@ grows ahead of need (:meth:`taisph.engine.state.State.ensure_room`).
 
 
 import collections
-import warnings
 
 import numpy as np
 import taichi as ti
 
 from ..engine import status as st
 from ..engine.layout import FLUID
-from ..messages import InputError, TaisphWarning
+from ..messages import InputError
 from .base import Term
 from .open_boundary_buffer import BufferUpkeep
-from .open_boundary_values import Fit, fitted, table_velocity
+from .open_boundary_values import EXTRAPOLATED, PRESCRIBED, Fit, fitted, table_velocity, uniform_inflow_speed
 
 ZONE_ROW = "open_zone"  # integer row: 0 in the fluid, k + 1 in zone k's buffer
 TABLE_CAPACITY = 1 << 18  # reals of every zone's velocity table together
 FACE_SAMPLES = {2: 65, 3: 17}  # samples of a profile or function along each face axis
 TIME_SAMPLES = 513  # samples of a time table or function over its span
-PRESCRIBED, EXTRAPOLATED = "prescribed", "extrapolated"
 PROFILES = ("uniform", "parabolic")
 
 
@@ -72,10 +70,9 @@ _ZoneRows = collections.namedtuple("ZoneRows", "origin normal axis1 axis2 length
 def _param_names(zone, dim: int) -> dict:
     """The zone's runtime parameters and their kinds ("vector" or a number)."""
     p = zone.name + "_"
-    names = {p + "origin": "vector", p + "normal": "vector", p + "axis1": "vector", p + "axis2": "vector",
-             p + "length1": 1.0, p + "length2": 1.0, p + "depth": 1.0, p + "spacing": 1.0, p + "pressure": 0.0, p + "period": 0.0,
-             p + "table_dt": 0.0, p + "table_shape": "vector3", p + "table_offset": 0.0}
-    return names
+    return {p + "origin": "vector", p + "normal": "vector", p + "axis1": "vector", p + "axis2": "vector",
+            p + "length1": 1.0, p + "length2": 1.0, p + "depth": 1.0, p + "spacing": 1.0, p + "pressure": 0.0, p + "period": 0.0,
+            p + "table_dt": 0.0, p + "table_shape": "vector3", p + "table_offset": 0.0}
 
 
 @ti.data_oriented
@@ -109,7 +106,7 @@ class OpenBoundaries(Term):
         """Recompute the parameter values from the zones (after a zone was added or changed)."""
         self._declare()
         self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in self.zones),
-                        **{k: v for k, v in self.options.items() if k == "fill_holes"}}
+                        **{k: v for k, v in self.options.items() if k in ("fill_holes", "uniform_inflow")}}
         self.values = {}
         offset = 0
         self._tables = []
@@ -173,12 +170,13 @@ class OpenBoundaries(Term):
         if type(scene.eos).__name__ != "Tait":
             raise InputError("open boundaries need the Tait equation of state (their density comes from the "
                              "prescribed or extrapolated pressure by its inverse)")
-        extrapolated = [z.name for z in self.zones if z.velocity_mode == EXTRAPOLATED]
-        if extrapolated and "laminar_viscosity" not in scene.terms_by_name:
-            warnings.warn(f"scene {scene.name!r}: open boundary zone(s) {', '.join(extrapolated)} extrapolate the "
-                          "velocity and the scene has no LaminarViscosity (nu in a scene file): water flowing in "
-                          "through them runs apart into jets without it (stable at U dx / nu ~ 1, not at 10; "
-                          "docs/open_boundaries.md)", TaisphWarning, stacklevel=2)
+        # without viscosity nothing decides the profile of water flowing in through a zone that
+        # extrapolates the velocity: such inflow is made uniform along the face (after_sort)
+        self.options["uniform_inflow"] = ("laminar_viscosity" not in scene.terms_by_name
+                                          and any(z.velocity_mode == EXTRAPOLATED for z in self.zones))
+        if self.options["uniform_inflow"] and len(self.zones) > st.MAX_ZONES:
+            raise InputError(f"open boundaries: at most {st.MAX_ZONES} zones in a scene without viscosity, "
+                             f"got {len(self.zones)}")
 
     def reserve(self, scene) -> int:
         """Free particle slots to keep ahead of a batch of steps (up to 128): every
@@ -234,6 +232,7 @@ class OpenBoundaries(Term):
         n_zones = len(self.zones)
         modes = self.modes
         dim = self.dim
+        uniform_inflow = self.options.get("uniform_inflow", False)
 
         @ti.func
         def body(s: ti.template(), t_target):
@@ -306,6 +305,15 @@ class OpenBoundaries(Term):
                             s.Ss[q.density, i] = s.mat[material, m.rho0] * ti.pow(base, 1.0 / s.mat[material, m.gamma])
                             s.Sv[q.velocity, i] = v
                             derive(s, i)  # pressure (and P/rho^2...) from the new density
+            if ti.static(uniform_inflow):  # the zones' mean speeds (summed in order: reproducible)
+                for z in ti.static(range(n_zones)):
+                    s.status[st.ZONE_SPEEDS + 2 * z] = 0.0
+                    s.status[st.ZONE_SPEEDS + 2 * z + 1] = 0.0
+                ti.loop_config(serialize=True)
+                for i in range(n):
+                    uniform_inflow_speed(s, q, self.rows, modes, dim, i, False)
+                for i in range(n):
+                    uniform_inflow_speed(s, q, self.rows, modes, dim, i, True)
 
         return body
 

@@ -4,7 +4,11 @@ table, and the fluid's pressure and velocity near the face by a first-order fit
 
 import taichi as ti
 
+from ..engine import status as st
+from ..engine.kernels import TRACED
 from ..engine.layout import FLUID
+
+PRESCRIBED, EXTRAPOLATED = "prescribed", "extrapolated"  # a zone's velocity or pressure
 
 
 @ti.func
@@ -98,3 +102,31 @@ def fitted(acc: ti.template(), dim: ti.template()):
                 value += inverse[0, b] * acc[n * n + k * n + b]
             result[k] = value
     return result[0], ti.Vector([result[1 + d] for d in ti.static(range(dim))])
+
+
+@ti.func
+def uniform_inflow_speed(s: ti.template(), q: ti.template(), rows: ti.template(), modes: ti.template(),
+                         dim: ti.template(), i, assign: ti.template()):
+    """Without viscosity (the buffer pass of :class:`taisph.terms.open_boundary.OpenBoundaries`),
+    for buffer particle i of a zone that extrapolates the velocity: its normal speed added to
+    its zone's sum (`assign` False), or, if it moves in, the zone's mean normal speed given to
+    it (`assign` True; the mean if that is inward, else it stands), so that water enters such
+    a face as one uniform stream. Euler's equations need an inflow's profile given;
+    extrapolated, each line of the buffer carried its own speed into the fluid its next fit
+    read, and the lines ran apart into jets (docs/open_boundaries.md, "Inflow through an
+    extrapolated zone")."""
+    ti.static(TRACED.add(("open_boundaries", "uniform inflow")))
+    zone = s.Si[q.open_zone, i]
+    if s.Si[q.kind, i] == FLUID and zone > 0:
+        for z in ti.static(range(len(rows))):
+            if ti.static(modes[z][0] == EXTRAPOLATED):
+                if zone == z + 1:
+                    normal = ti.Vector([s.params[rows[z].normal + d] for d in ti.static(range(dim))])
+                    speed = s.Sv[q.velocity, i].dot(normal)
+                    total, count = st.ZONE_SPEEDS + 2 * z, st.ZONE_SPEEDS + 2 * z + 1
+                    if ti.static(assign):
+                        if speed > 0.0:
+                            s.Sv[q.velocity, i] = ti.max(s.status[total] / ti.max(s.status[count], 1.0), 0.0) * normal
+                    else:
+                        s.status[total] += speed
+                        s.status[count] += 1.0
