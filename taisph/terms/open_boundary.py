@@ -10,11 +10,12 @@ SPHinXsys; Zhang et al. 2021):
 
 - *velocity*: prescribed, u(x, t) from the zone's table (a constant, a profile, a
   table of (t, u), or a Python function of position and time, tabulated), or
-  extrapolated from the fluid: the normal part of the Shepard mean of the fluid's
+  extrapolated from the fluid: the normal part of a first-order fit of the fluid's
   velocity around the point x_r = x + (h - (x - a) . n) n, a smoothing length inside
   the face on the particle's line normal to it (a, n: a point of the face and its
   inward normal). One value per line, normal only: every line of the buffer moves as
   one, along the normal, so the buffer keeps its lattice and never drifts into a wall;
+  without viscosity, water moving in takes the zone's mean speed (uniform_inflow_speed);
 - *pressure*: prescribed p (Pa), or extrapolated the same way (the fluid's pressure
   at x_r: zero normal gradient across the buffer); the density follows by the inverse
   equation of state, rho = rho0 (1 + p / B)^(1/gamma) (Tait).

@@ -1,6 +1,7 @@
 """The values of an open boundary's buffer particles: a zone's prescribed velocity from its
-table, and the fluid's pressure and velocity near the face by a first-order fit
-(:mod:`taisph.terms.open_boundary` says how they are used)."""
+table, the fluid's pressure and velocity near the face by a first-order fit, and, without
+viscosity, the uniform speed of water moving in (:mod:`taisph.terms.open_boundary` says
+how they are used)."""
 
 import taichi as ti
 
