@@ -4,16 +4,18 @@ import math
 
 import numpy as np
 
-from taisph.geometry import lattice
+from taisph.geometry import lattice, support_layers
 from taisph.scene import Material, Scene
-from taisph.scene.parameters import (ParameterError, lattice_count, at_least, checked, end_time, flag, frame_count, known_integrator, known_kernel,
-                                     one_of, positive, smoothing_factor)
-from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, ParticleShifting, PressureGradient
+from taisph.scene.parameters import (ParameterError, lattice_count, at_least, checked, end_time, flag, frame_count,
+                                     known_integrator, known_kernel, one_of, positive, smoothing_factor)
+from taisph.terms import (AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, ParticleShifting,
+                          PressureGradient)
 
 
 @checked(dx=positive, H=positive, L=positive, mu=positive, rho0=positive, p_in=positive, p_out=positive,
          c0=positive, h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator,
-         inlet=one_of("pressure", "velocity"), periodic=flag, delta=at_least(0), shifting=flag, t_end=end_time, frames=frame_count)
+         inlet=one_of("pressure", "velocity"), periodic=flag, delta=at_least(0), shifting=flag, t_end=end_time,
+         frames=frame_count)
 def channel(
     dx: float = 2.5e-5,
     H: float = 1e-3,
@@ -75,7 +77,7 @@ def channel(
     if periodic:
         scene.periodic = (True, False)
         scene.terms.append(Gravity(gravity=((p_in - p_out) / (rho0 * L), 0.0)))
-        layers = math.ceil(scene.support_radius / dx - 1e-9)
+        layers = support_layers(scene.support_radius, dx)
         below = lattice((0.0, -layers * dx), (L, 0.0), dx)
         scene.add_walls(below)
         scene.add_walls(below + np.array([0.0, H + layers * dx]))
@@ -91,7 +93,7 @@ def channel(
     scene.add_open_boundary("outlet", at=(L, 0.0), to=(L, H), pressure=p_out)
     # walls below and above the fluid and both buffers
     depth = max(z.layers for z in scene.open_boundaries) * dx
-    layers = math.ceil(scene.support_radius / dx - 1e-9)
+    layers = support_layers(scene.support_radius, dx)
     below = lattice((-depth, -layers * dx), (L + depth, 0.0), dx)
     scene.add_walls(below)
     scene.add_walls(below + np.array([0.0, H + layers * dx]))

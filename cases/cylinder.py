@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from taisph.geometry import lattice
+from taisph.geometry import lattice, support_layers
 from taisph.probes import force, pressure
 from taisph.scene import Material, Scene
 from taisph.scene.parameters import (ParameterError, at_least, between, checked, end_time, flag, frame_count, integer,
@@ -21,9 +21,10 @@ REFERENCE_RE20 = {"C_D": 5.5795, "C_L": 0.0106, "dp": 0.1175}
 BACKGROUND = 0.3 / 0.3**2  # the default background pressure over rho U_max^2: 0.3 Pa at Re 20
 
 
-@checked(dx=positive, re=between(1, 200), c0=optional(positive), p_background=optional(at_least(0)), ramp=at_least(0), h_factor=smoothing_factor,
-         kernel=known_kernel, integrator=known_integrator, delta=at_least(0), shifting=flag,
-         every=integer(at_least=1), surface=one_of("lattice", "rings"), density=one_of("continuity", "summation"), t_end=end_time, frames=frame_count)
+@checked(dx=positive, re=between(1, 200), c0=optional(positive), p_background=optional(at_least(0)), ramp=at_least(0),
+         h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator, delta=at_least(0), shifting=flag,
+         every=integer(at_least=1), surface=one_of("lattice", "rings"), density=one_of("continuity", "summation"),
+         t_end=end_time, frames=frame_count)
 def cylinder(
     dx: float = 0.005,
     re: float = 20.0,
@@ -64,8 +65,7 @@ def cylinder(
     lattice points with r >= D/2. dx must divide 0.01 m (D/dx = 10, 20, 30, 40...): the
     walls, the faces and the cylinder's centre then lie on cell corners. Morris laminar
     viscosity, Wendland kernel with h = 1.3 dx, predictor-corrector, and by default
-    (measured, docs/validation.md, "Flow past a cylinder"; D/dx = 20: C_D +0.6 %,
-    dp +1.3 %):
+    (chosen by the runs of docs/validation.md, "Flow past a cylinder"):
 
     - `density` = "summation" (the fluid's density summed over its neighbours and the
       walls, normalised by the kernel's sum over the lattice: SummationDensity(walls=True,
@@ -77,25 +77,21 @@ def cylinder(
     - `p_background` (Pa): the outlet's pressure and the fluid's initial one; default 0
       with shifting, 3.33 rho U_max^2 (0.3 Pa at re = 20) without.
 
-    Why (D/dx = 10 to 8 s unless said): without shifting and background pressure the
-    wake's pressure goes negative and the tensile instability opens a cavity behind the
-    cylinder (the channel lost 3-16 % of its mass); a background pressure prevents it but
-    the symmetric pressure gradient turns it into a spurious drag, ~2.9 C_D per Pa (C_D
-    6.31, 6.99, 9.03 at 0.1, 0.3, 1 Pa; +21 % at D/dx = 20 with 0.3 Pa); shifting
-    without background pressure gives the right wake (C_D +6 %) but with the continuity
-    equation the channel lost mass steadily (-4.6 % at 8 s: the shift spreads the wake's
-    particles, which the evolved density does not see); the summed density follows the
-    particles (mass +0.1 %). Its price: a noisier force (the standard deviation of C_D's
-    samples 1.6 against 0.5-0.75 with the continuity equation; the means are steady).
-    `c0` (default 30 U_max = 9 m/s at re = 20: 20 x the fastest speed, ~1.5 U_max):
-    with 15 U_max the acoustic noise overfilled the inlet buffer (continuity, 0.3 Pa).
-    `surface`: rings are the default since the staircase's maximum drag at Re 100 missed
-    the benchmark's bar (+13 % at D/dx = 20, rings +8.7 %; their force is quieter); at
-    Re 20 both meet it (D/dx = 20: rings C_D +0.6 %, dp +1.3 %; staircase +1.5 %, +3.8 %).
+    Why (the figures: docs/validation.md, "Flow past a cylinder"): without shifting and
+    background pressure the wake's pressure goes negative and the tensile instability
+    opens a cavity behind the cylinder (the channel loses mass); a background pressure
+    prevents it but the symmetric pressure gradient turns it into a spurious drag that
+    grows with the background pressure; shifting without background pressure gives the
+    right wake, but with the continuity equation the channel loses mass steadily (the
+    shift spreads the wake's particles, which the evolved density does not see); the
+    summed density follows the particles. Its price: a noisier force (the means are
+    steady). `c0` (default 30 U_max = 9 m/s at re = 20: 20 x the fastest speed, ~1.5
+    U_max): a lower one lets the acoustic noise overfill the inlet buffer. `surface`:
+    rings are the default since the staircase's maximum drag at Re 100 misses the
+    benchmark's bar (rings meet it; their force is quieter); at Re 20 both meet it.
 
-    At re = 100 (docs/validation.md, "Re 100"): at D/dx = 20 (the default dx) to 6 s,
-    vortex shedding at St 0.297 (reference 0.295-0.305), max C_D 3.51 against 3.22-3.24
-    (+8.7 %), max C_L 1.03 (0.99-1.01), over the last 2 s.
+    At re = 100 (docs/validation.md, "Re 100"), at the default dx, the vortex shedding's
+    Strouhal number and the maximum drag and lift meet the benchmark's bars.
 
     Probes (written by ``python -m taisph cylinder`` to OUT/probes.csv): the force of
     the fluid on the cylinder "cylinder" (pressure and viscous, N/m, every `every`
@@ -127,7 +123,7 @@ def cylinder(
                   description=(f"flow past a cylinder (Schaefer & Turek 1996), D = {DIAMETER:g} m, D/dx = "
                                f"{DIAMETER / dx:.3g}, Re = {re:g}: U_max = {u_max:.4g} m/s, mean {u_mean:.4g} m/s, "
                                f"c0 = {c0:g} m/s"))
-    layers = math.ceil(scene.support_radius / dx - 1e-9)
+    layers = support_layers(scene.support_radius, dx)
     points = lattice((0.0, 0.0), (LENGTH, HEIGHT), dx)
     r = np.linalg.norm(points - np.asarray(CENTRE), axis=1)
     solid = r < 0.5 * DIAMETER

@@ -1,19 +1,17 @@
 """2D dam break: a water column collapses in a tank (Martin & Moyce 1952; Koshizuka & Oka 1996)."""
 
-import math
-
 import numpy as np
 
 from taisph.scene import Material, Scene
-from taisph.geometry import box_walls, lattice, wall_layers
+from taisph.geometry import box_walls, lattice, support_layers, wall_layers
 from taisph.scene.names import FORMULATIONS, UP
 from taisph.scene.parameters import (ParameterError, between, checked, courant_number, diffusion_delta, end_time, flag,
                                      frame_count, gravity_magnitude, known_integrator, known_kernel, lattice_count,
                                      one_of, optional, positive, smoothing_factor, speed_of_sound, viscosity_alpha,
                                      xsph_epsilon)
 from taisph.scene.water import hydrostatic_density, lennard_jones_strength, sound_speed
-from taisph.terms import (XSPH, AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, LennardJonesWall,
-                          ParticleShifting, PressureGradient, Riemann)
+from taisph.terms import (STANDARD_GRAVITY, XSPH, AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity,
+                          LennardJonesWall, ParticleShifting, PressureGradient, Riemann)
 from taisph.eos import Tait
 
 WALL_MODELS = ("lj", "dummy")
@@ -34,7 +32,7 @@ def dam_break(
     alpha: float = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     seed_physics: bool = False,
@@ -55,16 +53,14 @@ def dam_break(
     Defaults: 1 m x 2 m column, 4 m tank, dx = 0.02 m (5000 fluid particles), cubic
     spline with h = 1.3 dx, predictor-corrector, Monaghan viscosity alpha = 0.1, Tait
     water with c0 = 10 sqrt(2 g H) (about 10x the largest flow speed), and the most
-    accurate physics per unit of wall time we measured (python -m tools.studies.dam_break_defaults,
-    docs/performance.md): dummy walls (three layers dx apart, pressure extrapolated from
-    the fluid, Adami et al. 2012) with wall friction, density diffusion delta = 0.1, and
-    an adaptive step with Courant number 0.4 in 2D (0.55 held to t = 0.7 s at dx = 0.02
-    and 0.6 failed; to t = 3 s 0.4 lost no particle at dx = 0.02 and 0.01 and removed 8
-    for their density at dx = 0.005, 0.45 removed 13 at dx = 0.01; docs/performance.md)
-    and 0.3 in 3D (where 0.4 removed 2 particles for their density at dx = 0.05 by
-    t = 3 s). At dx = 0.02 that gives a pressure noise of 0.017 rho g H and a surge front 0.15 from
-    Koshizuka & Oka's, against 0.26 and 0.165 with the seed's physics. The column starts
-    in hydrostatic equilibrium (inverse Tait).
+    accurate physics per unit of wall time of the study python -m
+    tools.studies.dam_break_defaults: dummy walls (three layers dx apart, pressure
+    extrapolated from the fluid, Adami et al. 2012) with wall friction, density diffusion
+    delta = 0.1, and an adaptive step with Courant number 0.4 in 2D and 0.3 in 3D, the
+    largest that keep the fluid's particles to t = 3 s (docs/stability.md, "Time step").
+    The pressure noise and surge front this gives, against the seed's physics:
+    docs/performance.md, "The flagship's physics". The column starts in hydrostatic
+    equilibrium (inverse Tait).
 
     seed_physics: the seed report's model instead: Lennard-Jones walls (seed eq. 13) of
     particles dx/2 apart with r0 = dx/2 and D = 5 g H / r0, no density diffusion, no
@@ -92,13 +88,13 @@ def dam_break(
     (eqs. 7-8); "riemann", the Riemann-solver formulation of Zhang, Hu & Adams (2017;
     ``taisph.terms.Riemann``, the scene files' default for one fluid under WCSPH): a smoother
     wall pressure at the same front on the Buchner dam break (docs/validation.md, "What sets
-    the wall pressure"), at x1.1-1.6 the cost per step, and with the engine's Courant number
-    0.25 (0.4 stopped the run at t = 0.02 s). This case keeps the symmetric form and the wall
-    friction by default: on Buchner's sensors formulation="riemann" with wall_friction=False
-    gives P1 0.115 against 0.251 rho g H and the impact on time (+2.6 % against +23.7 %), and the
-    front nearer a fine solution's (0.037 against 0.080), but Koshizuka & Oka's front farther
-    (0.244 against 0.151) at about 2.7 times the wall time (dx = 0.02; docs/validation.md, "The
-    Python case's defaults on Buchner's sensors"): use those two settings for wall loads.
+    the wall pressure"), at a higher cost per step, and with the engine's Courant number
+    0.25 (the symmetric form's 0.4 does not hold with it). This case keeps the symmetric form
+    and the wall friction by default: on Buchner's sensors formulation="riemann" with
+    wall_friction=False gives a truer wall pressure and impact time, and a front nearer a
+    fine solution's, but Koshizuka & Oka's front farther, at a few times the wall time
+    (docs/validation.md, "The Riemann formulation", for the figures): use those two
+    settings for wall loads.
 
     shifting: particle shifting's reference speed U (m/s; 0, the default: none), with the
     free-surface rule (``taisph.terms.ParticleShifting(free_surface=True)``); with density
@@ -120,8 +116,8 @@ def physics(seed_physics=False, walls=None, wall_friction=None, delta=None, cour
         wall_friction = walls == "dummy" and not seed_physics
     if delta is None:
         delta = 0.0 if seed_physics else 0.1
-    # the Courant numbers 0.4 / 0.3 were measured with the symmetric form; with the Riemann
-    # formulation 0.4 stopped at t = 0.02 s (Buchner's geometry, dx = 0.02), 0.25 ran through
+    # the Courant numbers 0.4 / 0.3 hold with the symmetric form; the Riemann formulation
+    # keeps the engine's 0.25 (docs/validation.md, "The Riemann formulation")
     if courant is None and walls == "dummy" and delta and formulation == "symmetric":
         courant = 0.4 if dim == 2 else 0.3
     return walls, wall_friction, delta, courant
@@ -135,7 +131,8 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
                                                    formulation)
     if shifting and wall_friction:
         raise ParameterError(f"{name}: shifting with wall_friction holds a film of water on the back wall (the "
-                             "residual column 0.93 high at t sqrt(g/L) = 2.2 against 0.54 without shifting at dx = 0.02; "
+                             "residual column 0.93 high at t sqrt(g/L) = 2.2 against 0.54 without shifting at "
+                             "dx = 0.02; "
                              "taisph/terms/particle_shifting.py): set wall_friction=False with shifting")
     if wall_friction and walls != "dummy":
         raise ParameterError(f"{name}: wall_friction needs walls = 'dummy' (the Lennard-Jones walls carry no "
@@ -202,7 +199,7 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
     fluid = lattice(lo, column_hi, dx)
     scene.add_fluid(fluid, density=hydrostatic_density(water, g, height - fluid[:, UP]))
     if dummy:
-        layers = math.ceil(scene.support_radius / dx - 1e-9)
+        layers = support_layers(scene.support_radius, dx)
         pad = layers * dx
         top = np.eye(dim)[UP] * (0.5 * tank_height if not closed_top else 0.0)
         scene.domain = (np.array(lo) - pad - dx, np.array(tank_hi) + pad + dx + top)

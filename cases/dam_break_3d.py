@@ -5,6 +5,7 @@ from taisph.scene.parameters import (checked, courant_number, diffusion_delta, e
                                      smoothing_factor, speed_of_sound, viscosity_alpha, xsph_epsilon)
 
 from taisph.scene.names import FORMULATIONS
+from taisph.terms import STANDARD_GRAVITY
 
 from .dam_break import WALL_MODELS, _dam_break
 
@@ -25,7 +26,7 @@ def dam_break_3d(
     alpha: float = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     seed_physics: bool = False,

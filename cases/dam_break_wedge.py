@@ -5,7 +5,7 @@ import numpy as np
 from taisph.geometry import polyline
 from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice
-from taisph.terms import ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
+from taisph.terms import STANDARD_GRAVITY, ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
 from taisph.scene.names import UP
 from taisph.scene.water import hydrostatic_density, lennard_jones_strength, sound_speed
 from taisph.scene.parameters import (ParameterError, checked, end_time, frame_count, gravity_magnitude,
@@ -29,7 +29,7 @@ def dam_break_wedge(
     alpha: float = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     t_end: float = 1.5,
@@ -84,7 +84,8 @@ def dam_break_wedge(
     rho = hydrostatic_density(water, g, height - fluid[:, UP])
     scene.add_fluid(fluid, density=rho)
     tank = box_walls([0.0, 0.0], [tank_width, tank_height], spacing)
-    under_wedge = (np.abs(tank[:, 1]) < 1e-9) & (tank[:, 0] > wedge_start + 1e-9) & (tank[:, 0] < wedge_start + wedge_base - 1e-9)
+    under_wedge = ((np.abs(tank[:, 1]) < 1e-9) & (tank[:, 0] > wedge_start + 1e-9)
+                   & (tank[:, 0] < wedge_start + wedge_base - 1e-9))
     faces = polyline([(wedge_start, 0.0), (wedge_start + 0.5 * wedge_base, wedge_height),
                       (wedge_start + wedge_base, 0.0)], spacing)[1:-1]  # the base corners are floor particles
     scene.add_walls(np.concatenate([tank[~under_wedge], faces]))

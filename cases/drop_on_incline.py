@@ -4,9 +4,10 @@ import math
 
 import numpy as np
 
-from taisph.geometry import ball, container_layers, extrude, polyline, side_walls
+from taisph.geometry import ball, container_layers, extrude, polyline, side_walls, support_layers
 from taisph.scene import Material, Scene
-from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, Gravity, LennardJonesWall, PressureGradient
+from taisph.terms import (STANDARD_GRAVITY, AdamiWall, ArtificialViscosity, Continuity, Gravity, LennardJonesWall,
+                          PressureGradient)
 from taisph.scene.water import lennard_jones_strength, sound_speed
 from taisph.scene.parameters import (ParameterError, at_least, checked, end_time, frame_count, gravity_magnitude,
                                      known_integrator, known_kernel, known_solver, lattice_count, one_of, optional,
@@ -17,9 +18,9 @@ SQRT2 = math.sqrt(2.0)
 
 @checked(dim=one_of(2, 3), dx=optional(positive), radius=positive, fall=at_least(0), impact_x=positive,
          incline=positive, floor=at_least(0), tank_height=positive, depth=positive, side_wall_height=positive,
-         alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel,
-         integrator=known_integrator, t_end=end_time, frames=frame_count, walls=optional(one_of("lj", "dummy")),
-         solver=optional(known_solver))
+         alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude,
+         kernel=known_kernel, integrator=known_integrator, t_end=end_time, frames=frame_count,
+         walls=optional(one_of("lj", "dummy")), solver=optional(known_solver))
 def drop_on_incline(
     dim: int = 2,
     dx: float | None = None,
@@ -34,7 +35,7 @@ def drop_on_incline(
     alpha: float = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     t_end: float = 0.7,
@@ -137,7 +138,7 @@ def drop_on_incline(
     scene.add_fluid(ball(centre, radius, dx))
     outline = [(0.0, tank_height), (0.0, incline), (incline, 0.0), (width, 0.0), (width, tank_height)]
     if dummy:
-        layers = math.ceil(scene.support_radius / dx - 1e-9)
+        layers = support_layers(scene.support_radius, dx)
         scene.domain = (np.array(lo) - (layers + 1) * dx, np.array(hi) + (layers + 1) * dx)
         layer_points = container_layers(outline, dx, layers)
         if dim == 2:

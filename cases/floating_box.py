@@ -3,12 +3,14 @@ height submerged (Archimedes), its weight carried by the fluid's pressure."""
 
 import numpy as np
 
-from taisph.scene.parameters import (ParameterError, checked, end_time, frame_count, gravity_magnitude, known_integrator,
+from taisph.scene.parameters import (ParameterError, checked, end_time, frame_count, gravity_magnitude,
+                                     known_integrator,
                                      known_kernel, lattice_count, one_of, optional, positive, smoothing_factor,
                                      speed_of_sound, viscosity_alpha)
 from taisph.geometry import lattice
 from taisph.probes import body, elevation
 from taisph.scene.names import UP
+from taisph.terms import STANDARD_GRAVITY
 
 from .dam_break import _dam_break
 
@@ -16,8 +18,9 @@ RHO_WATER = 1000.0
 
 
 @checked(dim=one_of(2, 3), dx=positive, tank_width=positive, depth=positive, box_width=positive, box_height=positive,
-         box_density=positive, box_bottom=optional(positive), alpha=viscosity_alpha, c0=optional(speed_of_sound), h_factor=smoothing_factor,
-         g=gravity_magnitude, kernel=known_kernel, integrator=known_integrator, t_end=end_time, frames=frame_count)
+         box_density=positive, box_bottom=optional(positive), alpha=viscosity_alpha, c0=optional(speed_of_sound),
+         h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel, integrator=known_integrator,
+         t_end=end_time, frames=frame_count)
 def floating_box(
     dim: int = 2,
     dx: float = 0.02,
@@ -30,7 +33,7 @@ def floating_box(
     alpha: float = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     t_end: float = 3.0,

@@ -3,6 +3,7 @@
 from taisph.scene.parameters import (checked, diffusion_delta, end_time, flag, frame_count, gravity_magnitude,
                                      known_integrator, known_kernel, lattice_count, one_of, optional, positive,
                                      smoothing_factor, speed_of_sound, viscosity_alpha)
+from taisph.terms import STANDARD_GRAVITY
 
 from .dam_break import WALL_MODELS, _dam_break
 
@@ -18,7 +19,7 @@ def hydrostatic_tank(
     alpha: float = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     walls: str = "dummy",
@@ -35,10 +36,11 @@ def hydrostatic_tank(
     0.1, dummy walls (walls="dummy"; "lj" gives the seed's Lennard-Jones walls),
     2 s (about 120 acoustic periods H/c0). delta: density diffusion coefficient
     (with the hydrostatic correction), 0.1 by default, 0 or None for none: without it a
-    zig-zag pressure mode of the particle row on the floor grows after ~3 s (rms
-    pressure error 1.7 % at 8 s with dx = 0.05 m, 0.09 % with delta = 0.1).
+    zig-zag pressure mode of the particle row on the floor grows after a few seconds
+    (docs/accuracy.md, "Still water").
     """
     lattice_count("hydrostatic_tank", "the tank", dx, ("width", width), ("1.5 height", 1.5 * height))
     return _dam_break(2, dx, width, height, None, width, 1.5 * height, alpha, c0, h_factor, g, kernel, integrator,
                       t_end, frames, "hydrostatic_tank", walls=walls, wall_friction=wall_friction, delta=delta or 0.0,
-                      description=f"{width:g} m x {height:g} m of still water in an open-topped tank (walls on three sides)")
+                      description=f"{width:g} m x {height:g} m of still water in an open-topped tank "
+                                  "(walls on three sides)")

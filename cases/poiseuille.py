@@ -5,16 +5,16 @@ import math
 import numpy as np
 
 from taisph.scene import Material, Scene
-from taisph.geometry import lattice, wall_layers
+from taisph.geometry import lattice, support_layers, wall_layers
 from taisph.terms import AdamiWall, Continuity, DensityDiffusion, Gravity, LaminarViscosity, PressureGradient
 from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, end_time, finite, frame_count,
                                      known_integrator, known_kernel, lattice_count, optional, positive,
                                      reference_density, smoothing_factor, speed_of_sound)
 
 
-@checked(dx=positive, L=positive, nu=positive, F=finite, rho0=reference_density, c0=speed_of_sound, h_factor=smoothing_factor,
-         kernel=known_kernel, integrator=known_integrator, delta=optional(diffusion_delta), t_end=end_time,
-         frames=frame_count)
+@checked(dx=positive, L=positive, nu=positive, F=finite, rho0=reference_density, c0=speed_of_sound,
+         h_factor=smoothing_factor, kernel=known_kernel, integrator=known_integrator, delta=optional(diffusion_delta),
+         t_end=end_time, frames=frame_count)
 def poiseuille(
     dx: float = 5e-5,
     L: float = 1e-3,
@@ -71,7 +71,7 @@ def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_e
     n_along = math.ceil(3.0 * support / dx * (1 + 1e-9)) + 1
     length = n_along * dx
     lattice_count(name, "the channel", dx, ("L", L), ("its periodic length", length))
-    layers = math.ceil(support / dx - 1e-9)
+    layers = support_layers(support, dx)
     pad = (layers + 1) * dx
     scene.domain = (np.array([0.0, -pad]), np.array([length, L + pad]))
     scene.add_fluid(lattice((0.0, 0.0), (length, L), dx))

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from taisph.eos import Tait
-from taisph.geometry import lattice
+from taisph.geometry import lattice, support_layers
 from taisph.messages import InputError
 from taisph.probes import body, elevation
 from taisph.scene import Material, Scene
@@ -16,7 +16,8 @@ from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, e
                                      gravity_magnitude, known_integrator, known_kernel, lattice_count, optional,
                                      positive, smoothing_factor, speed_of_sound, viscosity_alpha)
 from taisph.scene.water import hydrostatic_density, sound_speed
-from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, PressureGradient
+from taisph.terms import (STANDARD_GRAVITY, AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity,
+                          PressureGradient)
 
 GAUGES = (1.5, 2.5)  # m from the piston's rest position: g1, g2
 
@@ -34,7 +35,7 @@ def solitary_wave(
     delta: float | None = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     t_end: float = 3.5,
@@ -88,7 +89,7 @@ def solitary_wave(
                   description=f"solitary wave, H = {height:g} m in {depth:g} m of water (Goring's piston, stroke "
                               f"{motion.stroke:.4g} m; celerity sqrt(g (h + H)) = {celerity:.4g} m/s), "
                               f"{length:g} m flume")
-    layers = math.ceil(scene.support_radius / dx - 1e-9)
+    layers = support_layers(scene.support_radius, dx)
     pad = layers * dx
     scene.domain = (np.array([-2 * pad - dx, -pad - dx]), np.array([length + pad + dx, top + 0.5 * depth]))
     fluid = lattice((0.0, 0.0), (length, depth), dx)
@@ -103,7 +104,7 @@ def solitary_wave(
     return scene
 
 
-def expected(depth=0.14, height=0.05, g=9.81) -> dict:
+def expected(depth=0.14, height=0.05, g=STANDARD_GRAVITY) -> dict:
     """Boussinesq's solitary wave: celerity sqrt(g (h + H)), Goring's stroke and duration,
     when the crest leaves the piston (t_c) and passes each gauge (x - S/2) / c later."""
     motion = wave_makers.solitary_piston(height, depth, g=g)

@@ -5,7 +5,8 @@ import math
 from taisph.validation.references import analytic
 from taisph.scene import Material, Scene
 from taisph.geometry import lattice
-from taisph.terms import ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting, PressureGradient, XSPH
+from taisph.terms import (ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity, ParticleShifting,
+                          PressureGradient, XSPH)
 from taisph.eos import tait
 from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, end_time, flag, frame_count,
                                      known_integrator, known_kernel, lattice_count, optional, positive,

@@ -4,7 +4,8 @@ import numpy as np
 
 from taisph.scene import Material, Scene
 from taisph.geometry import box_walls, lattice
-from taisph.terms import ArtificialViscosity, ContinuityColagrossi, Gravity, LennardJonesWall, PressureHuAdams
+from taisph.terms import (STANDARD_GRAVITY, ArtificialViscosity, ContinuityColagrossi, Gravity, LennardJonesWall,
+                          PressureHuAdams)
 from taisph.eos import tait
 from taisph.scene.water import lennard_jones_strength, sound_speed
 from taisph.scene.parameters import (ParameterError, at_least, checked, end_time, frame_count, gravity_magnitude,
@@ -28,7 +29,7 @@ def two_fluids(
     c0: float | None = None,
     lower_c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     t_end: float = 2.5,
@@ -88,8 +89,8 @@ def two_fluids(
         integrator=integrator,
         t_end=t_end,
         frames=frames,
-        description=(f"{upper.rho0:g} kg/m^3 fluid over {lower.rho0:g} kg/m^3 fluid in a {width:g} m x {height:g} m box "
-                     f"(Rayleigh-Taylor, Hu & Adams / Colagrossi & Landrini multiphase form)"),
+        description=(f"{upper.rho0:g} kg/m^3 fluid over {lower.rho0:g} kg/m^3 fluid in a {width:g} m x "
+                     f"{height:g} m box (Rayleigh-Taylor, Hu & Adams / Colagrossi & Landrini multiphase form)"),
     )
     points = lattice([0.0, 0.0], [width, height], dx)
     x, y = points[:, 0], points[:, 1]

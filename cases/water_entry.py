@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from taisph.eos import Tait
-from taisph.geometry import lattice
+from taisph.geometry import lattice, support_layers
 from taisph.geometry.shapes import ball, wall_layers
 from taisph.probes import body, elevation
 from taisph.scene import Material, Scene
@@ -15,7 +15,8 @@ from taisph.scene.parameters import (ParameterError, at_least, checked, diffusio
                                      flag, gravity_magnitude, known_integrator, known_kernel, lattice_count, optional,
                                      positive, smoothing_factor, speed_of_sound, viscosity_alpha)
 from taisph.scene.water import hydrostatic_density, sound_speed
-from taisph.terms import AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity, PressureGradient
+from taisph.terms import (STANDARD_GRAVITY, AdamiWall, ArtificialViscosity, Continuity, DensityDiffusion, Gravity,
+                          PressureGradient)
 
 RHO_WATER = 1000.0
 
@@ -36,7 +37,7 @@ def water_entry(
     delta: float | None = 0.1,
     c0: float | None = None,
     h_factor: float = 1.3,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "spline",
     integrator: str = "pc",
     t_end: float = 3.0,
@@ -90,7 +91,7 @@ def water_entry(
                   kernel=kernel, integrator=integrator, t_end=t_end, frames=frames,
                   description=f"cylinder, D = {diameter:g} m, {density:g} kg/m^3, dropped {drop:g} m (entry at "
                               f"{entry:.3g} m/s) into {depth:g} m of still water in a {tank_width:g} m tank")
-    layers = math.ceil(scene.support_radius / dx - 1e-9)
+    layers = support_layers(scene.support_radius, dx)
     pad = layers * dx
     scene.domain = (np.array([-pad - dx, -pad - dx]), np.array([tank_width + pad + dx, top + pad + dx + 0.5 * top]))
     fluid = lattice((0.0, 0.0), (tank_width, depth), dx)

@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from taisph.eos import Tait
-from taisph.geometry import lattice
+from taisph.geometry import lattice, support_layers
 from taisph.messages import InputError
 from taisph.probes import body, elevation
 from taisph.scene import Material, Scene
@@ -16,8 +16,8 @@ from taisph.scene.parameters import (ParameterError, checked, diffusion_delta, e
                                      lattice_count, optional, at_least, positive, smoothing_factor, speed_of_sound,
                                      viscosity_alpha)
 from taisph.scene.water import hydrostatic_density, sound_speed
-from taisph.terms import (AdamiWall, ArtificialViscosity, Continuity, DampingZone, DensityDiffusion, Gravity,
-                          PressureGradient, Riemann)
+from taisph.terms import (STANDARD_GRAVITY, AdamiWall, ArtificialViscosity, Continuity, DampingZone, DensityDiffusion,
+                          Gravity, PressureGradient, Riemann)
 
 GAUGES = (1.0, 2.0, 3.0)  # m from the piston's rest position: g1, g2, g3
 
@@ -39,7 +39,7 @@ def wave_flume(
     delta: float | None = 0.1,
     c0: float | None = None,
     h_factor: float = 2.0,
-    g: float = 9.81,
+    g: float = STANDARD_GRAVITY,
     kernel: str = "wendland",
     integrator: str = "pc",
     t_end: float = 9.0,
@@ -107,7 +107,7 @@ def wave_flume(
                   kernel=kernel, integrator=integrator, t_end=t_end, frames=frames,
                   description=f"piston wave maker, H = {height:g} m, T = {period:g} s in {depth:g} m of water "
                               f"(stroke {stroke:.4g} m), {length:g} m flume")
-    layers = math.ceil(scene.support_radius / dx - 1e-9)
+    layers = support_layers(scene.support_radius, dx)
     pad = layers * dx
     back = math.ceil((0.5 * stroke + dx) / dx) * dx  # the floor reaches under the piston's travel
     scene.domain = (np.array([-pad - back - dx, -pad - dx]), np.array([length + pad + dx, top + 0.5 * depth]))
@@ -122,7 +122,7 @@ def wave_flume(
     return scene
 
 
-def expected(depth=0.5, height=0.04, period=1.5, g=9.81) -> dict:
+def expected(depth=0.5, height=0.04, period=1.5, g=STANDARD_GRAVITY) -> dict:
     """First-order theory's numbers for the flume: wavenumber k, wavelength, kh, H/S, the
     piston's stroke, the phase speed c and the group speed c_g = c (1 + 2kh / sinh 2kh) / 2
     (Dean & Dalrymple 1991, ch. 4)."""

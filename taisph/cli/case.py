@@ -25,8 +25,8 @@ from ..engine.timestep import DFSPH_COURANT, DFSPH_FORCE_FACTOR, SETTABLE, Contr
 from ..messages import InputError
 from ..scene import catalogue
 from ..scene.names import INTEGRATORS, KERNELS, SOLVERS
-from .parser import (COURANT, END_TIME, EVERY, FRACTION, NON_NEGATIVE, OUTPUT_FRAMES, POSITIVE, SKIN, THREADS, Parser,
-                     UsageError, ranged)
+from .parser import (COURANT, END_TIME, EVERY, FRACTION, NON_NEGATIVE, OUTPUT_FRAMES, POSITIVE, SKIN, THREADS,
+                     Parser, UsageError, ranged)
 
 # the simulation's own defaults (taisph.engine.timestep.Controls), for the options that set them
 CONTROLS = {f.name: f.default for f in dataclasses.fields(Controls)}
@@ -85,26 +85,53 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("case", nargs="?" if case else 1, help=target_help)
+    _time_options(parser, this)
+    _dfsph_options(parser)
+    _numerics_options(parser, this)
+    _guard_options(parser)
+    _output_options(parser)
+    if case:
+        effects = ("\n".join(f"  {t.describe()}" for t in scene.terms) if scene is not None
+                   else f"  (could not build the default scene: {failure})")
+        parser.epilog = ("case parameters (--set NAME=VALUE), default and allowed range:\n"
+                         + catalogue.describe_parameters(case)
+                         + "\n\neffects (compiled in):\n" + effects + "\n\n" + EPILOG)
+    return parser
+
+
+def _time_options(parser, this) -> None:
+    """The group "resolution and time": dx, the end time, frames and the time step's controls
+    (`this`: the case's values, :func:`_case_defaults`)."""
     g = parser.add_argument_group("resolution and time")
     g.add_argument("--dx", type=POSITIVE, help=f"particle spacing (m, > 0); sets the resolution{this['dx']}")
     g.add_argument("--t-end", type=END_TIME, help=f"simulated end time (s, in (0, 1e5]){this['t_end']}")
-    g.add_argument("--dt", type=POSITIVE, help="fixed time step (s, > 0); default: adaptive (CFL, force and viscous limits)")
+    g.add_argument("--dt", type=POSITIVE,
+                   help="fixed time step (s, > 0); default: adaptive (CFL, force and viscous limits)")
     g.add_argument("--frames", type=OUTPUT_FRAMES,
                    help=f"frames to write after the initial one (0 to 1e5; 0: the initial frame only; default: the "
                         f"case's){this['frames']}")
     g.add_argument("--courant", type=COURANT, metavar="C",
                    help="Courant number of the adaptive step dt = C h / max(c + |v|) (0 < C <= 1); default: a "
-                        f"scene file's courant, else the case's (dam_break: 0.4 in 2D), else {CONTROLS['courant']:g}; DFSPH: "
-                        f"dt = C h / max |v|, {DFSPH_COURANT:g}{this['courant']}")
+                        "scene file's courant, else the case's (dam_break: 0.4 in 2D), else "
+                        f"{CONTROLS['courant']:g}; DFSPH: dt = C h / max |v|, {DFSPH_COURANT:g}{this['courant']}")
     g.add_argument("--dt-max", type=ranged(SETTABLE["dt_max"]), metavar="S",
                    help="cap on the adaptive step (s, > 0; default: none)")
     g.add_argument("--force-factor", type=ranged(SETTABLE["force_factor"]), metavar="C",
                    help="C in the force limit dt = C sqrt(h / max |a|) (0 < C <= 1; default "
                         f"{CONTROLS['force_factor']:g}, DFSPH {DFSPH_FORCE_FACTOR:g})")
+
+
+def _dfsph_options(parser) -> None:
+    """The group of DFSPH's pressure solves: one option per :data:`DFSPH_OPTIONS`."""
     g = parser.add_argument_group("DFSPH's pressure solves (docs/dfsph.md)")
     for name, about in DFSPH_OPTIONS.items():
-        g.add_argument("--" + name.replace("_", "-"), type=ranged(SETTABLE[name]), metavar="N" * ("iter" in name or "retries" in name) or "E",
+        metavar = "N" * ("iter" in name or "retries" in name) or "E"
+        g.add_argument("--" + name.replace("_", "-"), type=ranged(SETTABLE[name]), metavar=metavar,
                        help=f"{about} ({SETTABLE[name].describe()}; default {CONTROLS[name]:g})")
+
+
+def _numerics_options(parser, this) -> None:
+    """The group "numerics": solver, integrator, kernel, precision, neighbour lists, --set."""
     g = parser.add_argument_group("numerics")
     g.add_argument("--solver", choices=SOLVERS,
                    help="wcsph: weakly compressible (the default); dfsph: divergence-free SPH, an implicit "
@@ -117,6 +144,10 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
                         "walk the cells every step, as fast on CPUs; see docs/performance.md)")
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="set any case parameter (see CASE --help); repeatable")
+
+
+def _guard_options(parser) -> None:
+    """The group "guards and restarts": the run's guards, checkpoints and determinism."""
     g = parser.add_argument_group("guards and restarts")
     g.add_argument("--max-density-error", type=NON_NEGATIVE, default=CONTROLS["max_density_error"],
                    help="stop when |rho/rho0 - 1| exceeds this fraction (>= 0; 0: off; default "
@@ -136,6 +167,10 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
                         "'resume OUT/checkpoint')")
     g.add_argument("--deterministic", action="store_true",
                    help="serial cell sort at every size: bit-for-bit reproducible runs and restarts")
+
+
+def _output_options(parser) -> None:
+    """The group "output and machine": the output folder, probes, the backend and threads."""
     g = parser.add_argument_group("output and machine")
     g.add_argument("--out", type=Path, help="output folder (default: out/CASE)")
     g.add_argument("--no-output", action="store_true",
@@ -148,13 +183,6 @@ def build_parser(case: str | None = None, target_help: str = "case name, or 'lis
     g.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"], help="Taichi backend (default cpu)")
     g.add_argument("--threads", type=THREADS, help="CPU threads (>= 1; default: all cores)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
-    if case:
-        effects = ("\n".join(f"  {t.describe()}" for t in scene.terms) if scene is not None
-                   else f"  (could not build the default scene: {failure})")
-        parser.epilog = ("case parameters (--set NAME=VALUE), default and allowed range:\n"
-                         + catalogue.describe_parameters(case)
-                         + "\n\neffects (compiled in):\n" + effects + "\n\n" + EPILOG)
-    return parser
 
 
 def _case_defaults(scene) -> dict:

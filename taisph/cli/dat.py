@@ -22,6 +22,7 @@ from ..formats import dat as seedio
 from ..messages import InputError
 from ..scene.parameters import finite, positive, viscosity_alpha
 from ..scene import catalogue
+from ..terms import STANDARD_GRAVITY
 from .parser import FRAMES, NON_NEGATIVE, POSITIVE, THREADS, Parser, UsageError, ranged, ranged_list
 
 RUN_USAGE = "python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL [options]"
@@ -72,14 +73,16 @@ def run_parser() -> Parser:
                    help="artificial viscosity alpha (0 to 2, the cases' range; default 0.1)")
     g.add_argument("--beta", type=NON_NEGATIVE, default=0.0, help="artificial viscosity beta (>= 0, default 0)")
     g.add_argument("--eta-factor", type=POSITIVE, default=0.01, help="eta^2 = eta_factor h^2 (> 0, default 0.01)")
-    g.add_argument("--gravity", type=NUMBERS, help="gravity vector (default 0,-9.81 in 2D, 0,-9.81,0 in 3D)")
+    g.add_argument("--gravity", type=NUMBERS, help=f"gravity vector (default 0,{-STANDARD_GRAVITY} in 2D, "
+                        f"0,{-STANDARD_GRAVITY},0 in 3D)")
     g.add_argument("--lj-strength", type=POSITIVE, help="wall force D in m/s^2 (> 0, default 5 g H / r0)")
     g.add_argument("--lj-cutoff", type=POSITIVE, help="wall force range r0 (> 0, default: the wall spacing)")
     g.add_argument("--dim", type=int, choices=[2, 3], help="insist on 2D (9 columns) or 3D (11 columns)")
     g.add_argument("--domain", type=NUMBERS, help="neighbour grid box lo..hi, e.g. --domain=-1,-1,5,5 "
                                                   "(default: the particles' bounding box)")
     g = p.add_argument_group("output and machine")
-    g.add_argument("--frames", type=FRAMES, default=20, help="output frames after the initial one (1 to 1e5, default 20)")
+    g.add_argument("--frames", type=FRAMES, default=20,
+                   help="output frames after the initial one (1 to 1e5, default 20)")
     g.add_argument("--out", type=Path, help="output folder (default out/NAME)")
     g.add_argument("--name", help="name of the run and of its .pvd (default: INIT's file name)")
     g.add_argument("--precision", choices=["f32", "f64"], default="f64")

@@ -59,8 +59,8 @@ def _main(argv) -> int:
 def run_file(path: Path, args) -> int:
     """Run the scene file `path` with the case options `args`. Its probes go to OUT/probes.csv whatever the
     frames (also with --no-output, which writes no frames); ``frames = 0`` writes the initial frame only."""
-    overrides = {k: getattr(args, k) for k in ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant", "solver")
-                 if getattr(args, k) is not None}
+    options = ("dx", "t_end", "frames", "integrator", "kernel", "dt", "courant", "solver")
+    overrides = {k: getattr(args, k) for k in options if getattr(args, k) is not None}
     for item in args.set:
         if "=" not in item:
             raise InputError(f"--set expects KEY=VALUE, got {item!r}")

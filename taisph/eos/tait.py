@@ -14,9 +14,9 @@ With tension (the default, the seed's model) a stretched jet has P down to -B: t
 pulls thin ligaments into clumps that fly apart at tens of m/s, the tensile
 instability of free-surface SPH (Swegle et al. 1995; Sun et al. 2017). Flooring
 only the pressure is not enough with the continuity equation: a particle that flew
-as spray keeps its low density and lands as a hole the bulk collapses into (seen at
-dx = 0.005, docs/stability.md). SPlisHSPlasH's WCSPH clamps its density the same
-way (Becker & Teschner 2007). The density guard then checks compression only.
+as spray keeps its low density and lands as a hole the bulk collapses into
+(docs/stability.md). SPlisHSPlasH's WCSPH clamps its density the same way (Becker &
+Teschner 2007). The density guard then checks compression only.
 """
 
 import copy
@@ -74,12 +74,20 @@ class Tait:
         ratio = rho / s.mat[material, self.m.rho0]
         gamma = s.mat[material, self.m.gamma]
         power = 0.0
-        if gamma == 7.0:  # water: 4 multiplications instead of a libm pow (~10x faster)
+        if gamma == 7.0:  # water: 4 multiplications instead of a libm pow (docs/performance.md)
             r2 = ratio * ratio
             power = r2 * r2 * r2 * ratio
         else:
             power = ti.pow(ratio, gamma)
         return s.mat[material, self.m.B] * (power - 1.0)
+
+    @ti.func
+    def density_at(self, s: ti.template(), material, p):
+        """Inverse Tait on the device: the density at pressure p, rho0 (1 + p / B)^(1/gamma).
+        The base is floored at 0.05 (a pressure below -0.95 B, as an extrapolation far into
+        tension can give, would have no real root)."""
+        base = ti.max(1.0 + p / s.mat[material, self.m.B], 0.05)
+        return s.mat[material, self.m.rho0] * ti.pow(base, 1.0 / s.mat[material, self.m.gamma])
 
     @ti.func
     def sound_speed(self, s: ti.template(), i):

@@ -115,7 +115,8 @@ def _parse_whole(text: str):
     return None
 
 
-def read_particles(path, dim: int | None = None, what: str = "particle file", allow_empty: bool = False) -> ParticleData:
+def read_particles(path, dim: int | None = None, what: str = "particle file",
+                   allow_empty: bool = False) -> ParticleData:
     """Read a seed-format particle (or boundary) file; raise :class:`SeedFileError`.
 
     `dim` (2 or 3) insists on that many coordinates; None detects it from the
@@ -124,6 +125,39 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
     path = Path(path)
     if dim is not None and dim not in COLUMNS:
         raise ValueError(f"dim must be 2 or 3, got {dim!r}")
+    lines = _token_lines(path, what)
+    count, body = _count(path, lines, what, allow_empty)
+    if count == 0:
+        d = dim or 2
+        z = np.zeros((0, d))
+        e = np.zeros(0)
+        return ParticleData(str(path), d, z, z.copy(), e, e.copy(), e.copy(), e.copy(), np.zeros(0, int))
+    dim, names = _columns(path, body, dim)
+    rows = [tokens for _, tokens in body]
+    line_of = np.array([k for k, _ in body])
+    data = _numbers(path, body, names)
+    order = _index_order(path, data[:, 0], rows, line_of, count)
+    _check_values(path, data, rows, line_of, names)
+    data = data[order]
+    col = {name: k for k, name in enumerate(names)}
+    xyz = [col[a] for a in ("x", "y", "z")[:dim]]
+    uvw = [col[a] for a in ("u", "v", "w")[:dim]]
+    return ParticleData(
+        path=str(path),
+        dim=dim,
+        position=data[:, xyz].copy(),
+        velocity=data[:, uvw].copy(),
+        mass=data[:, col["mass"]].copy(),
+        density=data[:, col["density"]].copy(),
+        pressure=data[:, col["pressure"]].copy(),
+        energy=data[:, col["energy"]].copy(),
+        line=line_of[order],
+    )
+
+
+def _token_lines(path: Path, what: str) -> list:
+    """The file's non-blank lines as (line number, tokens); refuses a file that does not
+    read, is not UTF-8 text, holds a control character in a token, or is empty."""
     try:
         raw = path.read_bytes()
     except FileNotFoundError:
@@ -143,18 +177,24 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
             bad = _CONTROL.search(tok)
             if bad:
                 raise SeedFileError(path, f"column {c + 1} is {tok!r}, which holds the control character "
-                                          f"U+{ord(bad[0]):04X}; a line holds numbers separated by spaces or tabs", k)
+                                          f"U+{ord(bad[0]):04X}; a line holds numbers separated by spaces or tabs",
+                                    k)
         if tokens:
             lines.append((k, tokens))
     if not lines:
         raise SeedFileError(path, f"the {what} is empty; its first line must be the particle count")
+    return lines
 
-    # --- the count line ------------------------------------------------------
+
+def _count(path: Path, lines: list, what: str, allow_empty: bool) -> tuple:
+    """(count, particle lines): the count of the first line, which the particle lines
+    that follow it must match."""
     count_line, tokens = lines[0]
     if len(tokens) != 1:
         hint = " (is the count line missing?)" if len(tokens) in DIM_OF_COLUMNS else ""
         raise SeedFileError(path, f"the first line must hold only the particle count, found {len(tokens)} "
-                                  f"values {' '.join(tokens[:4])}{' ...' if len(tokens) > 4 else ''}{hint}", count_line)
+                                  f"values {' '.join(tokens[:4])}{' ...' if len(tokens) > 4 else ''}{hint}",
+                            count_line)
     count = _parse_whole(tokens[0])
     if count is None or count < 0:
         raise SeedFileError(path, f"the particle count {tokens[0]!r} is not a whole number >= 0", count_line)
@@ -169,13 +209,12 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
         last = body[-1][0] if body else count_line
         raise SeedFileError(path, f"the file ends after {len(body)} particle line(s), but the first line "
                                   f"(line {count_line}) announces {count}", last)
-    if count == 0:
-        d = dim or 2
-        z = np.zeros((0, d))
-        e = np.zeros(0)
-        return ParticleData(str(path), d, z, z.copy(), e, e.copy(), e.copy(), e.copy(), np.zeros(0, int))
+    return count, body
 
-    # --- columns ---------------------------------------------------------------
+
+def _columns(path: Path, body: list, dim: int | None) -> tuple:
+    """(dim, column names): `dim`, or the one the first particle line's column count
+    sets; every particle line must have that many columns."""
     first_line, first_tokens = body[0]
     if dim is None:
         dim = DIM_OF_COLUMNS.get(len(first_tokens))
@@ -192,10 +231,13 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
             kind = "missing" if len(tokens) < ncol else "extra"
             raise SeedFileError(path, f"{kind} columns: found {len(tokens)}, expected {ncol} "
                                       f"({dim}D: {' '.join(names)}{set_by})", k)
+    return dim, names
 
-    # --- numbers (fast path, then locate the first bad token) ----------------------
+
+def _numbers(path: Path, body: list, names) -> np.ndarray:
+    """The particle lines as an (N, columns) array of finite numbers (a fast conversion;
+    if it fails, the first token that is not a number is found and named)."""
     rows = [tokens for _, tokens in body]
-    line_of = np.array([k for k, _ in body])
     try:
         data = np.array(rows, dtype=float)
     except ValueError:
@@ -212,10 +254,13 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
     if bad.any():
         r, c = np.argwhere(bad)[0]
         raise SeedFileError(path, f"column {c + 1} ({names[c]}) is {rows[r][c]!r}; values must be finite numbers",
-                            int(line_of[r]))
+                            int(body[r][0]))
+    return data
 
-    # --- indices ---------------------------------------------------------------------
-    index = data[:, 0]
+
+def _index_order(path: Path, index: np.ndarray, rows: list, line_of: np.ndarray, count: int) -> np.ndarray:
+    """The order that sorts the particle lines by index; the indices must be whole
+    numbers in 0 .. count - 1, each once."""
     not_whole = index != np.round(index)
     if not_whole.any():
         r = int(np.flatnonzero(not_whole)[0])
@@ -232,8 +277,12 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
         first, second = sorted((order[dup[0]], order[dup[0] + 1]))
         raise SeedFileError(path, f"index {index[second]} is used twice (also on line {line_of[first]})",
                             int(line_of[second]))
+    return order
 
-    # --- physical checks ----------------------------------------------------------
+
+def _check_values(path: Path, data: np.ndarray, rows: list, line_of: np.ndarray, names) -> None:
+    """Physical values: mass and density > 0, then every position, velocity, mass and
+    density within its bounds (:data:`_BOUNDS`; the first bad value in file order)."""
     for name in ("mass", "density"):
         c = names.index(name)
         bad = np.flatnonzero(data[:, c] <= 0)
@@ -241,7 +290,7 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
             r = int(bad[0])
             raise SeedFileError(path, f"column {c + 1} ({name}) is {rows[r][c]}; it must be > 0", int(line_of[r]))
 
-    for k, name in enumerate(names):  # magnitudes (the first bad value in file order)
+    for k, name in enumerate(names):
         kind = {"x": "position", "y": "position", "z": "position", "u": "velocity", "v": "velocity",
                 "w": "velocity"}.get(name, name)
         rng = _BOUNDS.get(kind)
@@ -253,22 +302,6 @@ def read_particles(path, dim: int | None = None, what: str = "particle file", al
             raise SeedFileError(path, f"column {k + 1} ({name}) is {rows[r][k]!r}; a particle's {kind} "
                                       f"{'component ' if kind in ('position', 'velocity') else ''}must be "
                                       f"{rng.describe()}", int(line_of[r]))
-
-    data = data[order]
-    col = {name: k for k, name in enumerate(names)}
-    xyz = [col[a] for a in ("x", "y", "z")[:dim]]
-    uvw = [col[a] for a in ("u", "v", "w")[:dim]]
-    return ParticleData(
-        path=str(path),
-        dim=dim,
-        position=data[:, xyz].copy(),
-        velocity=data[:, uvw].copy(),
-        mass=data[:, col["mass"]].copy(),
-        density=data[:, col["density"]].copy(),
-        pressure=data[:, col["pressure"]].copy(),
-        energy=data[:, col["energy"]].copy(),
-        line=line_of[order],
-    )
 
 
 def _rows(position, velocity, mass, density, pressure, energy, index=None) -> np.ndarray:
@@ -357,7 +390,8 @@ def read_output(path) -> list[OutputFrame]:
             step=header[0], time=header[1], index=data[:, 0].astype(int) if len(rows) else np.zeros(0, int),
             position=data[:, [col[a] for a in ("x", "y", "z")[:dim]]] if len(rows) else np.zeros((0, dim)),
             velocity=data[:, [col[a] for a in ("u", "v", "w")[:dim]]] if len(rows) else np.zeros((0, dim)),
-            **{name: (data[:, col[name]] if len(rows) else np.zeros(0)) for name in ("mass", "density", "pressure", "energy")},
+            **{name: (data[:, col[name]] if len(rows) else np.zeros(0))
+               for name in ("mass", "density", "pressure", "energy")},
         ))
 
     with open(path) as f:

@@ -149,8 +149,9 @@ def _check_grid(spec, scene):
 _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].model", "gravity": "physics.gravity",
               "artificial_viscosity": "physics.alpha", "density_diffusion": "physics.delta", "xsph": "physics.xsph",
               "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation",
-              "laminar_viscosity": "physics.nu", "particle_shifting": "physics.shifting", "open_boundaries": "open_boundaries",
-              "rigid_bodies": "bodies", "density_relaxation": "physics.density_relaxation"}
+              "laminar_viscosity": "physics.nu", "particle_shifting": "physics.shifting",
+              "open_boundaries": "open_boundaries", "rigid_bodies": "bodies",
+              "density_relaxation": "physics.density_relaxation"}
 
 
 def _validate(spec, scene):
@@ -177,7 +178,8 @@ def _validate(spec, scene):
                   "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
                   "physics.formulation": spec.formulation, "physics.nu": spec.nu, "physics.shifting": spec.shifting,
                   "physics.density_relaxation": spec.density_relaxation,
-                  "open_boundaries": [z.name for z in spec.open_boundaries or ()], "bodies": [b.name for b in spec.bodies or ()],
+                  "open_boundaries": [z.name for z in spec.open_boundaries or ()],
+                  "bodies": [b.name for b in spec.bodies or ()],
                   "materials": [m["name"] for m in spec.materials]}
         raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
 

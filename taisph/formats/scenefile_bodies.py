@@ -25,7 +25,7 @@ from ..scene.parameters import (BYTES_PER_PARTICLE, Number, between, end_time, m
                                 position_component, velocity_component)
 from .scenefile_open import MISSING  # a key the file does not have (the spec reader's too)
 
-SHAPES = ("box", "mesh", "polygon")  # as scenefile_spec.SHAPES
+SHAPES = ("box", "mesh", "polygon")  # the keys that give a block its shape (fluid, walls and bodies)
 WAVE_MAKERS = {"piston": ("height", "period", "depth", "ramp"), "flap": ("height", "period", "depth", "ramp"),
                "solitary": ("height", "depth")}
 FLOATING = ("density", "mass", "inertia", "velocity", "angular_velocity", "fixed", "hinge")  # a floating body's own
@@ -132,7 +132,8 @@ def _floating(check, key, entry, spec, args):
     if "fixed" in entry:
         value = entry["fixed"]
         if not isinstance(value, list):
-            check.fail(f"{key}.fixed", value, f"expected a list of the degrees of freedom held, of {', '.join(FIXABLE[d])}")
+            check.fail(f"{key}.fixed", value,
+                       f"expected a list of the degrees of freedom held, of {', '.join(FIXABLE[d])}")
         for k, v in enumerate(value):
             if v not in FIXABLE[d]:
                 check.fail(f"{key}.fixed[{k}]", v, f"not a degree of freedom of a {d}D body: {', '.join(FIXABLE[d])}")
@@ -150,7 +151,8 @@ def _prescribed(check, key, entry, spec, args):
             check.fail(f"{key}.{extra}", entry[extra], f"a prescribed body takes no {extra} (its motion is given); "
                        'a body the water moves has motion = "floating"')
     if ("wave_maker" in entry) == ("trajectory" in entry):
-        check.fail(f"{key}.trajectory" if "trajectory" in entry else f"{key}.wave_maker", entry.get("trajectory", MISSING),
+        check.fail(f"{key}.trajectory" if "trajectory" in entry else f"{key}.wave_maker",
+                   entry.get("trajectory", MISSING),
                    'a prescribed body follows either a wave maker (wave_maker = "piston", "flap" or "solitary") '
                    'or a trajectory file (trajectory = "FILE.csv"): exactly one of them')
     if "axis" in entry:
@@ -162,7 +164,8 @@ def _prescribed(check, key, entry, spec, args):
     if "trajectory" in entry:
         for extra in WAVE_MAKERS["piston"]:
             if extra in entry:
-                check.fail(f"{key}.{extra}", entry[extra], "a wave maker's parameter; the trajectory file gives the motion")
+                check.fail(f"{key}.{extra}", entry[extra],
+                           "a wave maker's parameter; the trajectory file gives the motion")
         value = check.text(f"{key}.trajectory", entry["trajectory"])
         args["trajectory"] = read_trajectory(check, f"{key}.trajectory", value, spec.path.parent / value, spec.dim)
         return
@@ -193,7 +196,8 @@ def read_trajectory(check, key, value, path: Path, dim: int) -> np.ndarray:
     except (OSError, ValueError) as err:  # ValueError: a NUL in the name, UnicodeDecodeError
         check.fail(key, value, f"{path}: cannot be read: {err}")
     if text is None:
-        check.fail(key, value, f"{path}: no such trajectory file (a CSV file: a header {', '.join(columns)}, then rows)")
+        check.fail(key, value,
+                   f"{path}: no such trajectory file (a CSV file: a header {', '.join(columns)}, then rows)")
     rows, lines, header = [], [], None
     for number, line in enumerate(text.splitlines(), 1):
         if not line.strip() or line.lstrip().startswith("#"):

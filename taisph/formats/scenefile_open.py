@@ -11,7 +11,6 @@ built scene for :mod:`.scenefile`, naming the block if the scene refuses one. Er
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,8 +18,10 @@ import numpy as np
 
 from ..engine import smoothing
 from ..messages import InputError
-from ..scene.parameters import (BYTES_PER_PARTICLE, between, finite, integer, memory_shortage, one_of, position_component,
-                                positive, velocity_component)
+from ..geometry.shapes import support_layers
+from ..scene.open_boundary import face_sides, is_zone_name, perpendicular, whole_spacings
+from ..scene.parameters import (BYTES_PER_PARTICLE, between, finite, integer, memory_shortage, one_of,
+                                position_component, positive, velocity_component)
 from ..terms.open_boundary import PROFILES
 
 MISSING = object()  # a key the file does not have (the spec reader's too)
@@ -59,8 +60,9 @@ def zones(check, entries, spec, material_names) -> list:
         key = f"open_boundaries[{k}]"
         check.keys(key, entry, KEYS)
         name = check.text(f"{key}.name", entry.get("name", MISSING))
-        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
-            check.fail(f"{key}.name", name, "expected a word of letters, digits and _ (it names the zone's parameters)")
+        if not is_zone_name(name):
+            check.fail(f"{key}.name", name,
+                       "expected a word of letters, digits and _ (it names the zone's parameters)")
         if name in names:
             check.fail(f"{key}.name", name, f"already the name of open_boundaries[{names[name]}]")
         names[name] = k
@@ -71,15 +73,16 @@ def zones(check, entries, spec, material_names) -> list:
             zone.normal = check.vector(f"{key}.normal", entry["normal"], spec.dim)
             _normal(check, zone, spec.dim)
         support = smoothing.KERNELS[spec.kernel].support * spec.h_factor * spec.dx
-        least = math.ceil(support / spec.dx - 1e-9)
+        least = support_layers(support, spec.dx)
         if "layers" in entry:
             zone.layers = check.number(f"{key}.layers", entry["layers"], RANGES["layers"])
             if zone.layers < least:
-                check.fail(f"{key}.layers", zone.layers, f"a buffer {zone.layers} dx deep is less than the kernel support "
-                           f"{support:g} m: at least {least} layers (default: one more)")
+                check.fail(f"{key}.layers", zone.layers, f"a buffer {zone.layers} dx deep is less than the kernel "
+                           f"support {support:g} m: at least {least} layers (default: one more)")
         count = math.prod(counts) * (zone.layers or least + 1)  # the buffer's particles, before any is made
         if problem := memory_shortage(count, BYTES_PER_PARTICLE):
-            check.fail(f"{key}.to", zone.value["to"], f"a buffer of {count:.3g} particles at dx = {spec.dx:g}, {problem}")
+            check.fail(f"{key}.to", zone.value["to"],
+                       f"a buffer of {count:.3g} particles at dx = {spec.dx:g}, {problem}")
         zone.profile = check.choice(f"{key}.profile", entry.get("profile", "uniform"), RANGES["profile"])
         if "pressure" in entry:
             zone.pressure = check.number(f"{key}.pressure", entry["pressure"], RANGES["pressure"])
@@ -101,29 +104,24 @@ def zones(check, entries, spec, material_names) -> list:
 
 def _face(check, zone, spec) -> list:
     """The face: a segment (2D) or a rectangle in a coordinate plane (3D), a whole number of dx along each
-    side; returns the particles along each side."""
-    differ = [a != b for a, b in zip(zone.at, zone.to)]
-    if not (any(differ) if spec.dim == 2 else sum(differ) == 2):
+    side (the scene's checks, :mod:`taisph.scene.open_boundary`); returns the particles along each side."""
+    sides = face_sides(zone.at, zone.to, spec.dim)
+    if sides is None:
         check.fail(f"{zone.key}.to", zone.value["to"], "the face from at to to is " + (
             "a segment of non-zero length" if spec.dim == 2 else
             "a rectangle in a coordinate plane: at and to differ in exactly two coordinates"))
-    a, b = np.asarray(zone.at), np.asarray(zone.to)
-    sides = [float(np.linalg.norm(b - a))] if spec.dim == 2 else [abs(float(v)) for v in (b - a)[np.array(differ)]]
     for side in sides:
-        if not (math.isfinite(side / spec.dx) and round(side / spec.dx) >= 1
-                and math.isclose(round(side / spec.dx) * spec.dx, side, rel_tol=1e-6)):
+        if not whole_spacings(side, spec.dx):
             check.fail(f"{zone.key}.to", zone.value["to"], f"the face's side {side:g} m is not a whole number of "
                        f"particle spacings dx = {spec.dx:g} m (its buffer is dx-spaced rows of particles)")
     return [round(side / spec.dx) for side in sides]
 
 
 def _normal(check, zone, dim):
-    n, d = np.asarray(zone.normal), np.asarray(zone.to) - np.asarray(zone.at)
-    length = float(np.linalg.norm(n))
-    if not length > 0:
+    """The normal: a non-zero vector perpendicular to the face (the scene's check)."""
+    if not float(np.linalg.norm(zone.normal)) > 0:
         check.fail(f"{zone.key}.normal", zone.value["normal"], "expected a non-zero vector (into the fluid)")
-    across = np.abs(n @ d) if dim == 2 else np.abs(n[d != 0]).max()
-    if across > 1e-9 * length * max(float(np.linalg.norm(d)), 1.0):
+    if not perpendicular(zone.normal, zone.at, zone.to, dim):
         check.fail(f"{zone.key}.normal", zone.value["normal"], "not perpendicular to the face from at to to")
 
 
@@ -154,7 +152,8 @@ def read_table(check, key, value, path: Path) -> np.ndarray:
             continue
         cells = [c.strip() for c in line.split(",")]
         if len(cells) != 2:
-            check.fail(key, value, f"{path}, line {number}: {line.strip()!r}: expected two numbers, t (s) and speed (m/s)")
+            check.fail(key, value,
+                       f"{path}, line {number}: {line.strip()!r}: expected two numbers, t (s) and speed (m/s)")
         try:
             t, u = (float(c) for c in cells)
         except ValueError:

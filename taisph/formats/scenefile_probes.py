@@ -39,12 +39,15 @@ def probes(check, entries, spec, lo, hi) -> list:
         if kind == "body":  # a [[bodies]] block's name; default: the probe's
             probe.body = check.text(f"{key}.body", p.get("body", name))
             if probe.body not in bodies:
-                what = "no body of that name" if "body" in p else f"required unless the probe's name, {name!r}, is a body's"
-                check.fail(f"{key}.body", p.get("body", MISSING), f"{what}; bodies: {', '.join(bodies) or 'none ([[bodies]] blocks)'}")
+                what = ("no body of that name" if "body" in p else
+                        f"required unless the probe's name, {name!r}, is a body's")
+                check.fail(f"{key}.body", p.get("body", MISSING),
+                           f"{what}; bodies: {', '.join(bodies) or 'none ([[bodies]] blocks)'}")
         elif kind == "force":
             probe.walls = check.text(f"{key}.walls", p.get("walls", MISSING))
             if probe.walls not in groups:
-                check.fail(f"{key}.walls", probe.walls, f"no wall group of that name; wall groups: {', '.join(groups) or 'none'}")
+                check.fail(f"{key}.walls", probe.walls,
+                           f"no wall group of that name; wall groups: {', '.join(groups) or 'none'}")
         else:
             axes = list(range(spec.dim)) if face else [a for a in range(spec.dim) if a != UP]
             for point in ("at", "to") if "to" in p or kind == "flow" else ("at",):

@@ -21,23 +21,28 @@ import numpy as np
 from ..engine import smoothing, timestep
 from ..engine.dfsph import pairs
 from ..geometry.mesh import MeshError, load_surface
+from ..geometry.shapes import support_layers
 from ..messages import InputError
 from ..probes.spec import Probe  # noqa: F401  (what [[probes]] become)
 from ..scene.names import UP, default_formulation
 from ..scene.parameters import (BYTES_PER_PARTICLE, Range, between, courant_number, diffusion_delta, end_time, finite,
-                                gravity_component, integer, known_formulation, known_integrator, known_kernel, known_solver,
-                                memory_shortage, Number, one_of, output_frames, particle_spacing, position_component, positive, reference_density, smoothing_factor,
-                                speed_of_sound, tait_exponent, velocity_component, viscosity_alpha, xsph_epsilon)
+                                gravity_component, integer, known_formulation, known_integrator, known_kernel,
+                                known_solver, memory_shortage, Number, one_of, output_frames, particle_spacing,
+                                position_component, positive, reference_density, smoothing_factor, speed_of_sound,
+                                tait_exponent, velocity_component, viscosity_alpha, xsph_epsilon)
+from ..terms import Gravity
 from .scenefile_open import MISSING as _MISSING, zones as open_boundaries  # [[open_boundaries]]
-from .scenefile_bodies import blocks as bodies  # [[bodies]]
-from .scenefile_probes import PROBE_KEYS, RANGES as PROBE_RANGES, probes  # noqa: F401  [[probes]] (PROBE_KEYS: the schema)
+from .scenefile_bodies import SHAPES, blocks as bodies  # [[bodies]]; SHAPES: every block's shape keys
+# [[probes]] (PROBE_KEYS: the schema)
+from .scenefile_probes import PROBE_KEYS, RANGES as PROBE_RANGES, probes  # noqa: F401
 
 WALL_KINDS = ("tank", "obstacle")  # a tank holds fluid (wall layers outside its box); an obstacle is solid
 
 # The allowed values of each key, declared once in taisph.scene.parameters (the cases' and the command
 # line's ranges for the same quantities): a value out of range is refused in the same words everywhere.
 RANGES = {
-    "dim": integer(at_least=2, at_most=3), "dx": Number(0, particle_spacing.high, low_open=True), "t_end": end_time, "frames": output_frames,
+    "dim": integer(at_least=2, at_most=3), "dx": Number(0, particle_spacing.high, low_open=True), "t_end": end_time,
+    "frames": output_frames,
     "solver": known_solver, "kernel": known_kernel, "integrator": known_integrator, "h_factor": smoothing_factor,
     "dt": positive, "courant": courant_number, "physics.gravity": gravity_component, "physics.alpha": viscosity_alpha,
     "physics.delta": diffusion_delta, "physics.xsph": xsph_epsilon, "rho0": reference_density, "c0": speed_of_sound,
@@ -45,16 +50,16 @@ RANGES = {
     "kind": PROBE_RANGES["kind"], "every": PROBE_RANGES["every"], "walls.kind": one_of(*WALL_KINDS),
     "physics.formulation": known_formulation, "physics.nu": between(0, 100), "physics.shifting": between(0, 1000),
     "physics.density_relaxation": between(0, 1e6), "pressure": between(0, 1e9)}
-# The values of the keys a file may leave out (gravity: (0, -9.81) or (0, -9.81, 0))
-DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1, "physics.delta": 0.1,
-            "physics.xsph": 0.0, "physics.nu": 0.0, "physics.shifting": 0.0, "physics.density_relaxation": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
+# The values of the keys a file may leave out (gravity: Gravity.default(dim), standard gravity along -y)
+DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1,
+            "physics.delta": 0.1, "physics.xsph": 0.0, "physics.nu": 0.0, "physics.shifting": 0.0,
+            "physics.density_relaxation": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor", "dt",
-            "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes", "open_boundaries", "bodies",
-            *timestep.SETTABLE}
+            "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes",
+            "open_boundaries", "bodies", *timestep.SETTABLE}
 PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation", "nu", "shifting", "density_relaxation"}
 MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
-SHAPES = ("box", "mesh", "polygon")
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic", "pressure"}
 WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "kind", "open_top"}
 
@@ -157,7 +162,7 @@ def _override(path, data, key, value):
 def wall_layers_needed(spec: SceneSpec) -> int:
     """Layers of dummy-wall particles that fill the kernel support: ceil(support / dx)."""
     support = smoothing.KERNELS[spec.kernel].support * spec.h_factor * spec.dx
-    return math.ceil(support / spec.dx - 1e-9)
+    return support_layers(support, spec.dx)
 
 
 def default_domain(spec: SceneSpec):
@@ -236,7 +241,7 @@ class _Checker:
         numbers = {k: self.number(k, data.get(k, DEFAULTS.get(k, _MISSING)), RANGES[k])
                    for k in ("dim", "dx", "t_end", "frames", "h_factor")}
         dim = numbers["dim"]
-        gravity = physics.get("gravity", [0.0, -9.81] + [0.0] * (dim - 2))
+        gravity = physics.get("gravity", list(Gravity.default(dim)))
         spec = SceneSpec(
             path=self.path,
             name=self.text("name", data.get("name", _MISSING)),
@@ -253,10 +258,12 @@ class _Checker:
             fluid=[], walls=[], probes=[],
         )
         names = [m["name"] for m in spec.materials]
-        spec.fluid = [self.block(f"fluid[{k}]", b, spec, names, FLUID_KEYS) for k, b in enumerate(self.entries("fluid", data))]
+        spec.fluid = [self.block(f"fluid[{k}]", b, spec, names, FLUID_KEYS)
+                      for k, b in enumerate(self.entries("fluid", data))]
         if not spec.fluid:
             self.fail("fluid", data.get("fluid", _MISSING), "a scene needs at least one [[fluid]] block")
-        spec.walls = [self.block(f"walls[{k}]", b, spec, names, WALL_KEYS) for k, b in enumerate(self.entries("walls", data))]
+        spec.walls = [self.block(f"walls[{k}]", b, spec, names, WALL_KEYS)
+                      for k, b in enumerate(self.entries("walls", data))]
         seen = {}
         for k, w in enumerate(spec.walls):
             if seen.setdefault(w.name, k) != k:
@@ -264,16 +271,20 @@ class _Checker:
             if w.model != spec.walls[0].model:
                 self.fail(f"walls[{k}].model", w.model, f"all wall groups need one model (walls[0] is "
                           f"{spec.walls[0].model!r}): the wall terms act on every wall particle")
-        spec.wall_model = spec.walls[0].model if spec.walls else ("dummy" if data.get("bodies") else None)  # bodies: dummy walls
+        # (bodies are dummy walls)
+        spec.wall_model = spec.walls[0].model if spec.walls else ("dummy" if data.get("bodies") else None)
         self.memory(spec)
         used = sorted({b.material for b in spec.fluid})
         spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1
         if spec.multiphase and spec.wall_model == "dummy":
-            self.fail("walls[0].model", "dummy", "fluids of different rho0 (" + ", ".join(spec.materials[k]["name"] for k in used)
-                      + ") use the sharp-interface terms (Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
-        spec.formulation = self.choice("physics.formulation", physics.get("formulation", default_formulation(spec)), known_formulation)
+            self.fail("walls[0].model", "dummy", "fluids of different rho0 ("
+                      + ", ".join(spec.materials[k]["name"] for k in used) + ") use the sharp-interface terms "
+                      "(Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
+        spec.formulation = self.choice("physics.formulation", physics.get("formulation", default_formulation(spec)),
+                                       known_formulation)
         if spec.formulation == "riemann":  # its own dissipation: alpha and delta only where the file sets them
-            spec.alpha, spec.delta = (spec.alpha if "alpha" in physics else 0.0), (spec.delta if "delta" in physics else 0.0)
+            spec.alpha = spec.alpha if "alpha" in physics else 0.0
+            spec.delta = spec.delta if "delta" in physics else 0.0
         spec.domain = self.box("domain", data["domain"], dim) if "domain" in data else None
         spec.bodies = bodies(self, self.entries("bodies", data), spec, [w.name for w in spec.walls])
         lo, hi = spec.domain or default_domain(spec)
@@ -303,8 +314,9 @@ class _Checker:
         return out
 
     def memory(self, spec):
-        """Refuse blocks whose particles (a lattice of each block's bounds: dx/2 apart for Lennard-Jones walls, grown by
-        dummy walls' layers; DFSPH's pair list counted) would need more memory than the machine has, before any is made."""
+        """Refuse blocks whose particles (a lattice of each block's bounds: dx/2 apart for Lennard-Jones walls, grown
+        by dummy walls' layers; DFSPH's pair list counted) would need more memory than the machine has, before any
+        is made."""
         layers = wall_layers_needed(spec) * spec.dx
         filled = [(b, spec.dx, 0.0) for b in spec.fluid] + [
             (b, spec.dx / 2.0, 0.0) if b.model == "lj" else (b, spec.dx, 2.0 * layers) for b in spec.walls]
@@ -312,14 +324,16 @@ class _Checker:
                     for b, spacing, pad in filled)
         support = smoothing.KERNELS[spec.kernel].support * spec.h_factor * spec.dx  # entries: a power of 2 (fields)
         try:
-            entries = 1 << math.ceil(math.log2(pairs.capacity(SimpleNamespace(support_radius=support, dim=spec.dim, dx=spec.dx))))
+            capacity = pairs.capacity(SimpleNamespace(support_radius=support, dim=spec.dim, dx=spec.dx))
+            entries = 1 << math.ceil(math.log2(capacity))
         except (OverflowError, ZeroDivisionError, ValueError):  # dx = 1e300, 5e-324: refused by the count or the fill
             entries = 1
         per = BYTES_PER_PARTICLE + (pairs.bytes_per_particle(entries, 8) if spec.solver == "dfsph" else 0)
         problem = memory_shortage(count, per)
         if problem:
             shapes = ", ".join(f"{b.key}.{b.shape}" for b, _, _ in filled)
-            self.fail("dx", spec.dx, f"fills {shapes} with {count:.3g} particles{f' (DFSPH: {per} B each)' * (per > BYTES_PER_PARTICLE)}, {problem}")
+            each = f" (DFSPH: {per} B each)" * (per > BYTES_PER_PARTICLE)
+            self.fail("dx", spec.dx, f"fills {shapes} with {count:.3g} particles{each}, {problem}")
 
     def block(self, key, entry, spec, material_names, allowed) -> Block:
         self.keys(key, entry, allowed)
@@ -340,7 +354,8 @@ class _Checker:
             if name not in material_names:
                 self.fail(f"{key}.material", name, f"no such material; defined: {', '.join(material_names)}")
             block.material = material_names.index(name)
-        block.velocity = self.vector(f"{key}.velocity", entry["velocity"], spec.dim, RANGES["velocity"]) if "velocity" in entry else None
+        block.velocity = (self.vector(f"{key}.velocity", entry["velocity"], spec.dim, RANGES["velocity"])
+                          if "velocity" in entry else None)
         block.hydrostatic = self.flag(f"{key}.hydrostatic", entry.get("hydrostatic", _MISSING), True)
         block.pressure = self.number(f"{key}.pressure", entry.get("pressure", 0.0), RANGES["pressure"])
         block.name = self.text(f"{key}.name", entry["name"]) if "name" in entry else key

@@ -24,7 +24,8 @@ from ..scene import water
 from ..scene.model import Material, Scene
 from ..scene.names import INTEGRATORS, KERNELS, UP
 from ..scene.parameters import particle_spacing
-from ..terms import ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall, PressureGradient, PressureHuAdams
+from ..terms import (STANDARD_GRAVITY, ArtificialViscosity, Continuity, ContinuityColagrossi, Gravity, LennardJonesWall,
+                     PressureGradient, PressureHuAdams)
 from ..engine import smoothing
 from ..engine.timestep import fixed_dt
 from ..eos import tait
@@ -110,117 +111,19 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
     follow. Wall particles move rigidly with the velocity of the boundary file.
     """
     p = physics or Physics()
-    fluid = particles if isinstance(particles, seedio.ParticleData) else seedio.read_particles(particles, dim)
+    fluid, walls = _read_files(particles, boundary, dim)
     dim = fluid.dim
-    walls = None
-    if boundary is not None:
-        walls = boundary if isinstance(boundary, seedio.ParticleData) else seedio.read_particles(
-            boundary, dim, what="boundary file", allow_empty=True)
-        if walls.dim != dim:
-            raise seedio.SeedFileError(walls.path, f"the boundary file is {walls.dim}D but the particle file "
-                                                   f"{fluid.path} is {dim}D")
     rho0 = [float(r) for r in p.rho0]
     if not rho0 or any(not (math.isfinite(r) and r > 0) for r in rho0):
         raise InputError(f"--rho0 must be positive numbers, got {p.rho0!r}")
-    n_mat = len(rho0)
-
-    # --- materials: each particle gets the reference density nearest its density -------
-    ratio = np.log(fluid.density[:, None] / np.asarray(rho0)[None, :])
-    material = np.argmin(np.abs(ratio), axis=1).astype(np.int32)
-    deviation = np.abs(fluid.density / np.asarray(rho0)[material] - 1.0)
-    worst = int(np.argmax(deviation))
-    if deviation[worst] > MAX_DENSITY_DEVIATION:
-        given = ", ".join(f"{r:g}" for r in rho0)
-        raise seedio.SeedFileError(
-            fluid.path,
-            f"density {fluid.density[worst]:g} is {100 * deviation[worst]:.0f} % from the nearest reference "
-            f"density rho0 = {rho0[material[worst]]:g} (given: --rho0 {given}); weakly compressible SPH needs "
-            f"densities within {100 * MAX_DENSITY_DEVIATION:g} % of rho0. Give each fluid's reference density, "
-            f"e.g. --rho0 1000,{fluid.density[worst]:g}", int(fluid.line[worst]))
-
-    # --- length and speed scales for the defaults ---------------------------------------------
-    each = (fluid.mass / np.asarray(rho0)[material]) ** (1.0 / dim)  # each particle's spacing
-    outside = np.flatnonzero(~((each >= particle_spacing.low) & (each <= particle_spacing.high)))
-    if outside.size:
-        r = int(outside[0])
-        raise seedio.SeedFileError(
-            fluid.path, f"mass {fluid.mass[r]:g} at density {rho0[material[r]]:g} is a particle spacing "
-            f"(mass / rho0)^(1/{dim}) of {each[r]:.3g} m; it must be {particle_spacing.describe()} m",
-            int(fluid.line[r]))
-    spacing = float(np.median(each))
+    material = _nearest_material(fluid, rho0)
+    spacing = _spacing(fluid, rho0, material, dim)
     all_pos = fluid.position if walls is None or walls.n == 0 else np.concatenate([fluid.position, walls.position])
-    g_vec = np.zeros(dim)
-    g_vec[UP] = -9.81  # y is vertical, as in the seed (and taisph's cases)
-    if p.gravity is not None:
-        g_vec = np.asarray(p.gravity, float).ravel()
-        if g_vec.shape != (dim,) or not np.all(np.isfinite(g_vec)):
-            raise InputError(f"--gravity needs {dim} finite components, got {p.gravity!r}")
-    g = float(np.linalg.norm(g_vec))
-    height = float(fluid.position[:, UP].max() - all_pos[:, UP].min())
-    v_max = float(np.linalg.norm(fluid.velocity, axis=1).max())
-    axis = "xyz"[UP]
-    flat = (f"{fluid.path}: the fluid's column height is 0 (the highest fluid particle, {axis} = "
-            f"{fluid.position[:, UP].max():g}, is not above the lowest particle"
-            + (f" of {fluid.path} and {walls.path}" if walls is not None and walls.n else "") + ") and no "
-            "particle moves")
-    if p.c0 is None:
-        c0 = water.sound_speed(g, height, v_max)
-        if c0 <= 0:
-            if g > 0:
-                raise InputError(f"{flat}: no speed to choose the sound speed from (10 sqrt(2 g H)); set --c0")
-            raise InputError(f"{fluid.path}: cannot choose a sound speed: no gravity and no initial velocity; "
-                             "set --c0")
-        c0 = [c0] * n_mat
-    else:
-        c0 = _per_material(p.c0, n_mat, "c0")
-    gamma = _per_material(p.gamma, n_mat, "gamma")
-    materials = [Material(f"fluid{k}" if n_mat > 1 else "water", rho0=rho0[k], c0=float(c0[k]), gamma=float(gamma[k]))
-                 for k in range(n_mat)]
-    for m in materials:
-        m.check()
+    scales = _scales(fluid, walls, all_pos, _gravity_vector(p.gravity, dim))
+    materials = _materials(p, fluid, rho0, scales)
     h = p.h_factor * spacing if p.h is None else float(p.h)
-
-    # --- terms ----------------------------------------------------------------------------------
-    formulation = p.formulation
-    if formulation == "auto":
-        formulation = "multiphase" if n_mat > 1 else "seed"
-    if formulation not in FORMULATIONS:
-        raise InputError(f"unknown formulation {formulation!r}; choose seed, multiphase or auto")
-    continuity, pressure = FORMULATIONS[formulation]
-    terms = [continuity(), pressure(), ArtificialViscosity(alpha=p.alpha, beta=p.beta, eta_factor=p.eta_factor),
-             Gravity(gravity=tuple(float(v) for v in g_vec))]
-    has_walls = walls is not None and walls.n > 0
-    if has_walls:
-        r0 = _wall_spacing(walls.position, walls.path) if p.lj_cutoff is None else float(p.lj_cutoff)
-        support = KERNEL_SUPPORT.get(kernel, math.inf) * (p.h_factor * spacing if p.h is None else float(p.h))
-        if p.lj_cutoff is None and not r0 <= support:
-            raise InputError(f"{walls.path}: the wall particles are {r0:g} m apart (the median distance to the "
-                             f"nearest), farther than the kernel support radius {support:g} m of the fluid "
-                             f"(spacing {spacing:g} m from the masses of {fluid.path}): the fluid would pass "
-                             "between them; place them closer or set --lj-cutoff")
-        if p.lj_strength is None:
-            if g * height <= 0 and v_max > 0:  # no head: the fastest initial speed's (D = 5 v^2 / (2 r0))
-                strength = water.lennard_jones_strength(g, height, r0, v_max)
-            elif g * height <= 0:
-                if g > 0:
-                    raise InputError(f"{flat}: no height to choose the wall strength from (5 g H / r0); "
-                                     "set --lj-strength")
-                raise InputError(f"{fluid.path}: cannot choose the wall strength: no gravity and no initial "
-                                 "velocity; set --lj-strength")
-            else:
-                strength = water.lennard_jones_strength(g, height, r0)
-        else:
-            strength = float(p.lj_strength)
-        terms.append(LennardJonesWall(lj_strength=strength, lj_cutoff=r0))
-
-    # --- domain and scene --------------------------------------------------------------------
-    if p.domain is None:
-        lo, hi = all_pos.min(axis=0) - spacing, all_pos.max(axis=0) + spacing
-    else:
-        box = np.asarray(p.domain, float).ravel()
-        if box.shape != (2 * dim,):
-            raise InputError(f"--domain needs {2 * dim} numbers (lo then hi corner), got {p.domain!r}")
-        lo, hi = box[:dim], box[dim:]
+    terms = _terms(p, len(rho0), fluid, walls, scales, kernel, spacing)
+    lo, hi = _domain(p.domain, all_pos, spacing, dim)
     _check_grid(fluid, walls, lo, hi, h, kernel)
     scene = Scene(
         name=name or Path(fluid.path).stem,
@@ -240,7 +143,7 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
     scene.add_particles(fluid.position, kind="fluid", mass=fluid.mass, density=fluid.density,
                         velocity=fluid.velocity)
     scene.material[: fluid.n] = material
-    if has_walls:
+    if walls is not None and walls.n > 0:
         scene.add_walls(walls.position, mass=walls.mass, density=walls.density, velocity=walls.velocity)
     try:
         scene.validate()
@@ -248,6 +151,165 @@ def load_scene(particles, boundary=None, physics: Physics | None = None, dim: in
         files = str(fluid.path) + (f" and {walls.path}" if walls is not None else "")
         raise InputError(f"{files}: the scene they make is refused: {err}") from None
     return scene, fluid.energy.copy()
+
+
+def _read_files(particles, boundary, dim) -> tuple:
+    """(fluid, walls): the particle file's and the boundary file's particles (walls None
+    without a boundary file), read unless given as ParticleData; both of one dimension."""
+    fluid = particles if isinstance(particles, seedio.ParticleData) else seedio.read_particles(particles, dim)
+    walls = None
+    if boundary is not None:
+        walls = boundary if isinstance(boundary, seedio.ParticleData) else seedio.read_particles(
+            boundary, fluid.dim, what="boundary file", allow_empty=True)
+        if walls.dim != fluid.dim:
+            raise seedio.SeedFileError(walls.path, f"the boundary file is {walls.dim}D but the particle file "
+                                                   f"{fluid.path} is {fluid.dim}D")
+    return fluid, walls
+
+
+def _nearest_material(fluid, rho0: list) -> np.ndarray:
+    """Each fluid particle's material: the one whose reference density is nearest its
+    density, which must lie within :data:`MAX_DENSITY_DEVIATION` of it."""
+    ratio = np.log(fluid.density[:, None] / np.asarray(rho0)[None, :])
+    material = np.argmin(np.abs(ratio), axis=1).astype(np.int32)
+    deviation = np.abs(fluid.density / np.asarray(rho0)[material] - 1.0)
+    worst = int(np.argmax(deviation))
+    if deviation[worst] > MAX_DENSITY_DEVIATION:
+        given = ", ".join(f"{r:g}" for r in rho0)
+        raise seedio.SeedFileError(
+            fluid.path,
+            f"density {fluid.density[worst]:g} is {100 * deviation[worst]:.0f} % from the nearest reference "
+            f"density rho0 = {rho0[material[worst]]:g} (given: --rho0 {given}); weakly compressible SPH needs "
+            f"densities within {100 * MAX_DENSITY_DEVIATION:g} % of rho0. Give each fluid's reference density, "
+            f"e.g. --rho0 1000,{fluid.density[worst]:g}", int(fluid.line[worst]))
+    return material
+
+
+def _spacing(fluid, rho0: list, material: np.ndarray, dim: int) -> float:
+    """The particle spacing: the median of the particles' (mass / rho0)^(1/dim), each of
+    which must be within the range of a spacing."""
+    each = (fluid.mass / np.asarray(rho0)[material]) ** (1.0 / dim)  # each particle's spacing
+    outside = np.flatnonzero(~((each >= particle_spacing.low) & (each <= particle_spacing.high)))
+    if outside.size:
+        r = int(outside[0])
+        raise seedio.SeedFileError(
+            fluid.path, f"mass {fluid.mass[r]:g} at density {rho0[material[r]]:g} is a particle spacing "
+            f"(mass / rho0)^(1/{dim}) of {each[r]:.3g} m; it must be {particle_spacing.describe()} m",
+            int(fluid.line[r]))
+    return float(np.median(each))
+
+
+def _gravity_vector(gravity, dim: int) -> np.ndarray:
+    """--gravity's vector, checked; by default standard gravity along -y."""
+    g_vec = np.zeros(dim)
+    g_vec[UP] = -STANDARD_GRAVITY  # y is vertical, as in the seed (and taisph's cases)
+    if gravity is not None:
+        g_vec = np.asarray(gravity, float).ravel()
+        if g_vec.shape != (dim,) or not np.all(np.isfinite(g_vec)):
+            raise InputError(f"--gravity needs {dim} finite components, got {gravity!r}")
+    return g_vec
+
+
+@dataclass
+class _Scales:
+    """The scales the defaults are computed from: gravity (its vector and magnitude), the
+    fluid's column height above the lowest particle, its fastest initial speed, and the
+    start of the message refusing a still, flat fluid."""
+
+    g_vec: np.ndarray
+    g: float
+    height: float
+    v_max: float
+    flat: str
+
+
+def _scales(fluid, walls, all_pos, g_vec) -> _Scales:
+    """The :class:`_Scales` of the particles `all_pos` (fluid and walls) under `g_vec`."""
+    height = float(fluid.position[:, UP].max() - all_pos[:, UP].min())
+    axis = "xyz"[UP]
+    flat = (f"{fluid.path}: the fluid's column height is 0 (the highest fluid particle, {axis} = "
+            f"{fluid.position[:, UP].max():g}, is not above the lowest particle"
+            + (f" of {fluid.path} and {walls.path}" if walls is not None and walls.n else "") + ") and no "
+            "particle moves")
+    return _Scales(g_vec, float(np.linalg.norm(g_vec)), height, float(np.linalg.norm(fluid.velocity, axis=1).max()),
+                   flat)
+
+
+def _materials(p: Physics, fluid, rho0: list, scales: _Scales) -> list:
+    """The materials, checked: rho0, c0 (by default from the scales, the same for all) and gamma."""
+    n_mat = len(rho0)
+    if p.c0 is None:
+        c0 = water.sound_speed(scales.g, scales.height, scales.v_max)
+        if c0 <= 0:
+            if scales.g > 0:
+                raise InputError(f"{scales.flat}: no speed to choose the sound speed from (10 sqrt(2 g H)); "
+                                 "set --c0")
+            raise InputError(f"{fluid.path}: cannot choose a sound speed: no gravity and no initial velocity; "
+                             "set --c0")
+        c0 = [c0] * n_mat
+    else:
+        c0 = _per_material(p.c0, n_mat, "c0")
+    gamma = _per_material(p.gamma, n_mat, "gamma")
+    materials = [Material(f"fluid{k}" if n_mat > 1 else "water", rho0=rho0[k], c0=float(c0[k]),
+                          gamma=float(gamma[k]))
+                 for k in range(n_mat)]
+    for m in materials:
+        m.check()
+    return materials
+
+
+def _terms(p: Physics, n_mat: int, fluid, walls, scales: _Scales, kernel: str, spacing: float) -> list:
+    """The terms: the formulation's continuity and pressure terms, artificial viscosity,
+    gravity, and with wall particles the Lennard-Jones wall force."""
+    formulation = p.formulation
+    if formulation == "auto":
+        formulation = "multiphase" if n_mat > 1 else "seed"
+    if formulation not in FORMULATIONS:
+        raise InputError(f"unknown formulation {formulation!r}; choose seed, multiphase or auto")
+    continuity, pressure = FORMULATIONS[formulation]
+    terms = [continuity(), pressure(), ArtificialViscosity(alpha=p.alpha, beta=p.beta, eta_factor=p.eta_factor),
+             Gravity(gravity=tuple(float(v) for v in scales.g_vec))]
+    if walls is not None and walls.n > 0:
+        terms.append(_wall_force(p, fluid, walls, scales, kernel, spacing))
+    return terms
+
+
+def _wall_force(p: Physics, fluid, walls, scales: _Scales, kernel: str, spacing: float) -> LennardJonesWall:
+    """The Lennard-Jones wall force: its cut-off r0 (by default the walls' spacing, which
+    must be within the kernel support) and strength D (by default 5 g H / r0, or without a
+    head 5 v^2 / (2 r0) of the fastest initial speed)."""
+    g, height, v_max, flat = scales.g, scales.height, scales.v_max, scales.flat
+    r0 = _wall_spacing(walls.position, walls.path) if p.lj_cutoff is None else float(p.lj_cutoff)
+    support = KERNEL_SUPPORT.get(kernel, math.inf) * (p.h_factor * spacing if p.h is None else float(p.h))
+    if p.lj_cutoff is None and not r0 <= support:
+        raise InputError(f"{walls.path}: the wall particles are {r0:g} m apart (the median distance to the "
+                         f"nearest), farther than the kernel support radius {support:g} m of the fluid "
+                         f"(spacing {spacing:g} m from the masses of {fluid.path}): the fluid would pass "
+                         "between them; place them closer or set --lj-cutoff")
+    if p.lj_strength is None:
+        if g * height <= 0 and v_max > 0:  # no head: the fastest initial speed's (D = 5 v^2 / (2 r0))
+            strength = water.lennard_jones_strength(g, height, r0, v_max)
+        elif g * height <= 0:
+            if g > 0:
+                raise InputError(f"{flat}: no height to choose the wall strength from (5 g H / r0); "
+                                 "set --lj-strength")
+            raise InputError(f"{fluid.path}: cannot choose the wall strength: no gravity and no initial "
+                             "velocity; set --lj-strength")
+        else:
+            strength = water.lennard_jones_strength(g, height, r0)
+    else:
+        strength = float(p.lj_strength)
+    return LennardJonesWall(lj_strength=strength, lj_cutoff=r0)
+
+
+def _domain(domain, all_pos: np.ndarray, spacing: float, dim: int) -> tuple:
+    """(lo, hi) of the neighbour grid: --domain's box, or the particles' grown by a spacing."""
+    if domain is None:
+        return all_pos.min(axis=0) - spacing, all_pos.max(axis=0) + spacing
+    box = np.asarray(domain, float).ravel()
+    if box.shape != (2 * dim,):
+        raise InputError(f"--domain needs {2 * dim} numbers (lo then hi corner), got {domain!r}")
+    return box[:dim], box[dim:]
 
 
 def _check_grid(fluid, walls, lo, hi, h, kernel):
@@ -387,5 +449,6 @@ def health(sim, box=None, max_density_deviation: float = MAX_DENSITY_DEVIATION) 
         lo, hi = (np.asarray(b, float) for b in box)
         outside = ~bad & ~np.all((x >= lo) & (x <= hi), axis=1)
         if outside.any():
-            problems.append(f"{int(outside.sum())} fluid particle(s) outside the box {lo.tolist()} .. {hi.tolist()}")
+            problems.append(f"{int(outside.sum())} fluid particle(s) outside the box "
+                            f"{lo.tolist()} .. {hi.tolist()}")
     return problems

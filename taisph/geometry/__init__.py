@@ -6,8 +6,8 @@ checks them, :mod:`.fill` samples them).
 """
 
 from .shapes import (ball, box_walls, container_layers, extrude, inside_triangle, lattice, polyline, segment,
-                     side_walls, wall_layers)
+                     side_walls, support_layers, wall_layers)
 from .fill import surface_points, volume_points
 
-__all__ = ["ball", "box_walls", "container_layers", "extrude", "inside_triangle", "lattice", "polyline", "segment", "side_walls",
-           "wall_layers", "surface_points", "volume_points"]
+__all__ = ["ball", "box_walls", "container_layers", "extrude", "inside_triangle", "lattice", "polyline", "segment",
+           "side_walls", "support_layers", "wall_layers", "surface_points", "volume_points"]

@@ -1,9 +1,10 @@
 """Particles from closed surfaces: points on them and lattice points inside them.
 
 ``surface_points(mesh, spacing)``: points on the surface, 1/spacing^2 per area
-(1/spacing per length in 2D) whatever its triangles (for Lennard-Jones walls). ``volume_points(mesh, spacing)``: the lattice points inside
-(fluid blocks), or with `depth` only those within `depth` of the surface (the layers
-of dummy-wall particles a solid needs). `mesh` is anything
+(1/spacing per length in 2D) whatever its triangles (for Lennard-Jones walls).
+``volume_points(mesh, spacing)``: the lattice points inside (fluid blocks), or with
+`depth` only those within `depth` of the surface (the layers of dummy-wall particles a
+solid needs). `mesh` is anything
 :func:`taisph.geometry.mesh.load_surface` takes: a file name (STL, OBJ, PLY, VTK, VTU, ...),
 a meshio mesh, ``(vertices, cells)`` or a 2D polygon; an open, inconsistently
 oriented or empty mesh is refused with its name and the problem.
@@ -55,19 +56,14 @@ def surface_points(mesh, spacing: float, dim: int | None = None) -> np.ndarray:
     outline; then thinned by the minimum-distance rule (corners first), which only
     acts at acute corners and stretches shorter than spacing.
 
-    Measured (tests/test_mesh.py, limit +-15 %), points x spacing^2 / area for a
-    sphere of radius 20 spacing: 1.01 as an icosphere of 320 triangles, 1.02 of
-    5120 and of 20480, 1.00 for a box of 644 long thin triangles (up to 540 times
-    longer than wide, :func:`taisph.geometry.mesh.sliver_box`); 2D, points x
-    spacing / length: 1.00 for the 200-gon and the 20-gon of radius 20 spacing. The
-    former sampler (every vertex, every edge divided, a barycentric grid in every
-    triangle) gave 1.54, 2.04, 2.04 and 43, and 1.59 and 1.12 in 2D. Every point
-    of the surface lies within about one spacing of a point (measured at most
-    0.89-0.96 spacing; a square grid's is 0.71), and surfaces closer to each other
-    than the minimum distance (a plate thinner than that) share their points. Every
-    point lies on a cell, up to round-off. Deterministic: the same mesh and spacing
-    give the same points in the same order. Cost: 70 000-100 000 points kept per
-    second, 16 candidates tested for each (docs/scenes.md).
+    The number of points per area does not depend on the triangles, slivers included
+    (:func:`taisph.geometry.mesh.sliver_box`; tests/test_mesh.py holds it within
+    +-15 % of 1/spacing^2; the figures, against the former sampler's, are in
+    docs/scenes.md). Every point of the surface lies within about one spacing of a
+    point, and surfaces closer to each other than the minimum distance (a plate
+    thinner than that) share their points. Every point lies on a cell, up to
+    round-off. Deterministic: the same mesh and spacing give the same points in the
+    same order. Cost: 16 candidates tested for each point kept (docs/scenes.md).
     """
     spacing = _positive(spacing, "spacing")
     surface = load_surface(mesh, dim)

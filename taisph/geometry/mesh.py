@@ -168,7 +168,8 @@ def _cells(blocks, dim, name) -> np.ndarray:
     """The triangles (3D) or segments (2D) of the mesh's cell blocks."""
     if dim == 3:
         tris = [d for t, d in blocks if t == "triangle"]
-        tris += [d[:, [0, 1, 2]] for t, d in blocks if t == "quad"] + [d[:, [0, 2, 3]] for t, d in blocks if t == "quad"]
+        quads = [d for t, d in blocks if t == "quad"]
+        tris += [d[:, [0, 1, 2]] for d in quads] + [d[:, [0, 2, 3]] for d in quads]
         if not tris:
             raise MeshError(f"{name}: no triangle or quad cells (cell types: "
                             f"{', '.join(sorted({t for t, _ in blocks})) or 'none'})")

@@ -8,7 +8,16 @@ between neighbouring wall particles (taisph's cases use dx/2, see ``dam_break``)
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+
+def support_layers(support: float, dx: float) -> int:
+    """The rows of particles, dx apart, that fill a kernel support of radius `support`
+    (dummy walls, an open boundary's buffer): ceil(support / dx), a round-off below a
+    whole number counting as it."""
+    return math.ceil(support / dx - 1e-9)
 
 
 def segment(a, b, spacing, include_end=True) -> np.ndarray:

@@ -77,19 +77,54 @@ def probe_kernel(solver):
 
 
 def _body(solver):
+    """The probe kernel's body: one parallel loop over the sample points and the particles
+    (the rows of ``aux_real`` and ``aux_int``: the module's docstring)."""
     q = solver.layout.q
-    grid, kern, dim, real = solver.grid, solver.kernel, solver.dim, solver.real
+    dim = solver.dim
     if getattr(q, VARIABLE_H, -1) >= 0:
         raise InputError("probes interpolate with the scene's constant smoothing length; this scene varies h "
                          "per particle (adaptive_h), which probes do not support")
+    p_support2 = solver.param_rows["support2"]
+    point_sums = _point_sums(solver)
+    wall_force = _wall_force(solver)
+    ACTIVE = dim  # column of a point's row: 1 if it is sampled
+
+    @ti.func
+    def body(s: ti.template(), t_target):
+        n_points = s.aux_int[0, 0]
+        n_ranges = s.aux_int[0, 2]
+        support2 = s.params[p_support2]
+        ti.loop_config(serialize=True)
+        for g in range(s.aux_int[0, 1]):  # the force rows accumulate: zero them first
+            for d in ti.static(range(dim)):
+                s.aux_real[n_points + g, d] = 0.0
+        for k in range(n_points + s.sizes[st.N_PARTICLES]):
+            if k < n_points:
+                if s.aux_real[k, ACTIVE] > 0.0:
+                    point_sums(s, k, support2)
+            else:
+                w = k - n_points
+                if s.Si[q.kind, w] == WALL:
+                    ident = s.Si[q.id, w]
+                    for r in range(n_ranges):
+                        row = 1 + r
+                        if s.aux_int[row, 3] > 0 and s.aux_int[row, 0] <= ident < s.aux_int[row, 1]:
+                            force = wall_force(s, w, support2)
+                            for d in ti.static(range(dim)):
+                                ti.atomic_add(s.aux_real[n_points + s.aux_int[row, 2], d], force[d])
+
+    return body
+
+
+def _point_sums(solver):
+    """The ``ti.func`` ``point_sums(s, k, support2)``: the kernel sums phi, pi and u at
+    sample point k over the fluid particles within the support (the module's docstring),
+    written to the point's row."""
+    q = solver.layout.q
+    grid, kern, dim, real = solver.grid, solver.kernel, solver.dim, solver.real
     rows = solver.param_rows
-    p_inv_h, p_w_norm, p_grad_norm, p_support2 = (rows[k] for k in ("inv_h", "w_norm", "grad_norm", "support2"))
-    force_terms = [t for t in solver.terms if t.name in FORCE_TERMS and t.has_pair]
-    dfsph = solver.dfsph  # its pressure force on a wall: dfsph_pressure_force
-    p_gravity = rows.get("gravity", -1)
-    p_scale = rows.get("dfsph_gradient_scale", -1)  # DFSPH's pressure force factor (engine/dfsph/parameters.py)
-    Rates = solver.Rates
-    ACTIVE, PHI, PI, U = dim, dim + 1, dim + 2, dim + 3  # columns of a point's row (U: dim of them)
+    p_inv_h, p_w_norm = rows["inv_h"], rows["w_norm"]
+    PHI, PI, U = dim + 1, dim + 2, dim + 3  # columns of a point's row (U: dim of them)
 
     @ti.func
     def point_sums(s: ti.template(), k, support2):
@@ -114,6 +149,23 @@ def _body(solver):
         s.aux_real[k, PI] = pi
         for d in ti.static(range(dim)):
             s.aux_real[k, U + d] = u[d]
+
+    return point_sums
+
+
+def _wall_force(solver):
+    """The ``ti.func`` ``wall_force(s, w, support2)``: the force of the fluid on wall
+    particle w through the :data:`FORCE_TERMS` (under DFSPH its pressure's; the module's
+    docstring)."""
+    q = solver.layout.q
+    grid, kern, dim, real = solver.grid, solver.kernel, solver.dim, solver.real
+    rows = solver.param_rows
+    p_inv_h, p_grad_norm = rows["inv_h"], rows["grad_norm"]
+    force_terms = [t for t in solver.terms if t.name in FORCE_TERMS and t.has_pair]
+    dfsph = solver.dfsph  # its pressure force on a wall: dfsph_pressure_force
+    p_gravity = rows.get("gravity", -1)
+    p_scale = rows.get("dfsph_gradient_scale", -1)  # DFSPH's pressure force factor (engine/dfsph/parameters.py)
+    Rates = solver.Rates
 
     @ti.func
     def dfsph_pressure_force(s: ti.template(), f, w, rfw, grad):
@@ -151,31 +203,7 @@ def _body(solver):
                         force -= s.Ss[q.mass, f] * rates.acc
         return force
 
-    @ti.func
-    def body(s: ti.template(), t_target):
-        n_points = s.aux_int[0, 0]
-        n_ranges = s.aux_int[0, 2]
-        support2 = s.params[p_support2]
-        ti.loop_config(serialize=True)
-        for g in range(s.aux_int[0, 1]):  # the force rows accumulate: zero them first
-            for d in ti.static(range(dim)):
-                s.aux_real[n_points + g, d] = 0.0
-        for k in range(n_points + s.sizes[st.N_PARTICLES]):
-            if k < n_points:
-                if s.aux_real[k, ACTIVE] > 0.0:
-                    point_sums(s, k, support2)
-            else:
-                w = k - n_points
-                if s.Si[q.kind, w] == WALL:
-                    ident = s.Si[q.id, w]
-                    for r in range(n_ranges):
-                        row = 1 + r
-                        if s.aux_int[row, 3] > 0 and s.aux_int[row, 0] <= ident < s.aux_int[row, 1]:
-                            force = wall_force(s, w, support2)
-                            for d in ti.static(range(dim)):
-                                ti.atomic_add(s.aux_real[n_points + s.aux_int[row, 2], d], force[d])
-
-    return body
+    return wall_force
 
 
 class Sampler:
@@ -208,7 +236,7 @@ class Sampler:
         """Run the kernel on the state ``S`` now; `points_active` (P bools) and
         `groups_active` (G bools) say what to compute. Returns ``(phi, pi, u, forces)``:
         (P,), (P,), (P, dim) and (G, dim) arrays (stale where inactive). The inputs are uploaded
-        only when the active ones change (an upload costs ~40 us)."""
+        only when the active ones change (an upload is a host-to-device copy; its cost: docs/scenes.md)."""
         key = (np.packbits(points_active).tobytes(), np.packbits(groups_active).tobytes())
         if key != self._uploaded:
             self.inputs[: self.n_points, self.dim] = points_active

@@ -102,8 +102,9 @@ def face_problem(at, to, dim: int) -> str | None:
     differ = sum(a != b for a, b in zip(at, to))
     if differ == 2 or (dim == 2 and differ == 1):  # 2D: any segment; 3D: a rectangle
         return None
-    return "a flow probe's face is " + ("a segment of non-zero length" if dim == 2 else
-                                        "a rectangle in a coordinate plane (at and to differ in exactly two coordinates)")
+    return "a flow probe's face is " + (
+        "a segment of non-zero length" if dim == 2 else
+        "a rectangle in a coordinate plane (at and to differ in exactly two coordinates)")
 
 
 def _finite(v) -> bool:

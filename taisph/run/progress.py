@@ -19,7 +19,8 @@ class Progress:
 
     def __enter__(self):
         if self.enabled:
-            from rich.progress import BarColumn, Progress as RichProgress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+            from rich.progress import (BarColumn, Progress as RichProgress, TextColumn, TimeElapsedColumn,
+                                       TimeRemainingColumn)
 
             self._bar = RichProgress(
                 TextColumn("[bold]{task.description}"),
@@ -70,7 +71,8 @@ class RunSummary:
     list_rebuilds: int | None = None  # neighbour list rebuilds during the run (None: no lists)
     fluid_mass: float = float("nan")  # of the fluid particles still simulated, at the end
     removed_mass: float = 0.0  # of the particles removed so far
-    pressure_solve: dict | None = None  # DFSPH: iterations per step, errors, steps above tolerance (dfsph.Stats.summary)
+    # DFSPH: iterations per step, errors, steps above tolerance (dfsph.Stats.summary)
+    pressure_solve: dict | None = None
     out_of_range: int = 0  # of `removed`: density out of the guard's range (taisph.engine.guards)
     replaced_frames: int = 0  # frames of an earlier series in `out` removed when this run began (run/vtk.py)
     open_mass: tuple | None = None  # open boundaries: (mass in, mass out) since the start, kg

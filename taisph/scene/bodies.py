@@ -262,10 +262,34 @@ def add(scene, name, particles, motion="floating", density=None, mass=None, cent
     trajectory is tabulated every :data:`TABLE_DT` up to `until` (default: the scene's
     t_end; velocities and accelerations: a wave maker's exact ones, otherwise differences
     of the table), after which the body stays at its last pose."""
-    from ..terms.rigid_bodies import RigidBodies
-
     d = scene.dim
     name = str(name)
+    fixed = _check_new(scene, name, motion, fixed)
+    ids, x = _ids(scene, name, particles)
+    _check_clear(scene, name, ids, x)
+    axis = _vector(name, "axis", axis if axis is not None else ([1.0, 0.0] if d == 2 else [0.0, 0.0, 1.0]), d)
+    if np.linalg.norm(axis) == 0.0:
+        raise InputError(f"body {name!r}: axis must not be zero")
+    axis = axis / np.linalg.norm(axis)
+    body = Body(name=name, ids=np.arange(len(x)) if ids is None else ids, motion=motion, fixed=fixed,
+                velocity=_vector(name, "velocity", velocity, d),
+                angular_velocity=(float(_vector(name, "angular_velocity", angular_velocity, 1)[0]) if d == 2
+                                  else _vector(name, "angular_velocity", angular_velocity, 3)))
+    if motion == "floating":
+        _floating(scene, body, x, density, mass, centre, inertia, hinge, axis)
+    else:
+        if hinge is not None:
+            raise InputError(f"body {name!r}: hinge is for a floating body; a prescribed body turns about its "
+                             "centre")
+        _prescribed(scene, body, x, centre, trajectory, axis, until)
+    _register(scene, body, ids, x)
+    return body
+
+
+def _check_new(scene, name, motion, fixed) -> tuple:
+    """Refuse a body the scene cannot have (a 1D scene, a name taken, an unknown motion or
+    degree of freedom); returns `fixed` as a tuple."""
+    d = scene.dim
     if d == 1:
         raise InputError(f"body {name!r}: bodies need a 2D or 3D scene")
     if any(b.name == name for b in scene.bodies):
@@ -277,7 +301,12 @@ def add(scene, name, particles, motion="floating", density=None, mass=None, cent
     if unknown:
         raise InputError(f"body {name!r}: fixed: {unknown[0]!r} is not a degree of freedom of a {d}D body "
                          f"({', '.join(FIXABLE[d])})")
-    ids, x = _ids(scene, name, particles)
+    return fixed
+
+
+def _check_clear(scene, name, ids, x) -> None:
+    """Refuse a body (particles `ids` at `x`) whose particles belong to another body, or
+    that overlaps the fluid or the other walls at t = 0 (closer than half a spacing)."""
     taken = [b.name for b in scene.bodies if ids is not None and np.intersect1d(b.ids, ids).size]
     if taken:
         raise InputError(f"body {name!r}: particles: some belong to body {taken[0]!r} already")
@@ -293,55 +322,62 @@ def add(scene, name, particles, motion="floating", density=None, mass=None, cent
     if gap < 0.5 * scene.dx:
         raise InputError(f"body {name!r} overlaps the walls at t = 0: a wall particle lies {gap:.3g} m from one "
                          f"of its particles (less than half the spacing {scene.dx:g} m)")
-    axis = _vector(name, "axis", axis if axis is not None else ([1.0, 0.0] if d == 2 else [0.0, 0.0, 1.0]), d)
-    if np.linalg.norm(axis) == 0.0:
-        raise InputError(f"body {name!r}: axis must not be zero")
-    axis = axis / np.linalg.norm(axis)
-    body = Body(name=name, ids=np.arange(len(x)) if ids is None else ids, motion=motion, fixed=fixed,
-                velocity=_vector(name, "velocity", velocity, d),
-                angular_velocity=(float(_vector(name, "angular_velocity", angular_velocity, 1)[0]) if d == 2
-                                  else _vector(name, "angular_velocity", angular_velocity, 3)))
-    if motion == "floating":
-        if (mass is None) == (density is None):
-            raise InputError(f"body {name!r}: give its mass or its density (one of them), got mass={mass!r}, "
-                             f"density={density!r}")
-        body.mass = (_positive(name, "mass", mass) if mass is not None
-                     else _positive(name, "density", density) * len(x) * scene.dx**d)
-        c = None if centre is None else _vector(name, "centre", centre, d)
-        body.centre, body.inertia = mass_properties(scene.dim, scene.dx, x, body.mass, c)
-        if inertia is not None:
-            if d == 2:
-                body.inertia = _positive(name, "inertia", inertia)
-            else:
-                arr = np.asarray(inertia, float)
-                arr = np.diag(arr) if arr.shape == (3,) else arr
-                if arr.shape != (3, 3) or not np.all(np.isfinite(arr)) or np.any(np.linalg.eigvalsh(
-                        0.5 * (arr + arr.T)) <= 0):
-                    raise InputError(f"body {name!r}: inertia must be 3 positive numbers (principal moments) or "
-                                     f"a symmetric positive 3 x 3 matrix, got {inertia!r}")
-                body.inertia = arr
-        if hinge is not None:
-            _hinge(body, name, d, hinge, axis)
-    else:
-        if hinge is not None:
-            raise InputError(f"body {name!r}: hinge is for a floating body; a prescribed body turns about its "
-                             "centre")
-        if trajectory is None:
-            raise InputError(f"body {name!r}: a prescribed body needs a trajectory (a wave maker, a function "
-                             "of t or a table)")
-        body.centre = _vector(name, "centre", centre, d) if centre is not None else x.mean(axis=0)
-        body.mass = 1.0
-        body.inertia = 1.0 if d == 2 else np.eye(3)
-        body.axis3 = tuple(axis) if d == 3 else (0.0, 0.0, 1.0)
-        until = scene.t_end if until is None else _positive(name, "until", until)
-        table, dt, what = _table(scene, name, trajectory, axis, until)
-        body.table, body.trajectory = (table, dt), what
-        _check_sweep(scene, body, x)
+
+
+def _floating(scene, body, x, density, mass, centre, inertia, hinge, axis) -> None:
+    """A floating body's mass (given, or its density times its particles' volume), centre
+    and inertia (given, or its particles', :func:`mass_properties`), and its hinge."""
+    name, d = body.name, scene.dim
+    if (mass is None) == (density is None):
+        raise InputError(f"body {name!r}: give its mass or its density (one of them), got mass={mass!r}, "
+                         f"density={density!r}")
+    body.mass = (_positive(name, "mass", mass) if mass is not None
+                 else _positive(name, "density", density) * len(x) * scene.dx**d)
+    c = None if centre is None else _vector(name, "centre", centre, d)
+    body.centre, body.inertia = mass_properties(scene.dim, scene.dx, x, body.mass, c)
+    if inertia is not None:
+        if d == 2:
+            body.inertia = _positive(name, "inertia", inertia)
+        else:
+            arr = np.asarray(inertia, float)
+            arr = np.diag(arr) if arr.shape == (3,) else arr
+            if arr.shape != (3, 3) or not np.all(np.isfinite(arr)) or np.any(np.linalg.eigvalsh(
+                    0.5 * (arr + arr.T)) <= 0):
+                raise InputError(f"body {name!r}: inertia must be 3 positive numbers (principal moments) or "
+                                 f"a symmetric positive 3 x 3 matrix, got {inertia!r}")
+            body.inertia = arr
+    if hinge is not None:
+        _hinge(body, name, d, hinge, axis)
+
+
+def _prescribed(scene, body, x, centre, trajectory, axis, until) -> None:
+    """A prescribed body's centre (given, or its particles' mean), its trajectory
+    tabulated up to `until` (:func:`_table`) and checked to stay in the domain."""
+    name, d = body.name, scene.dim
+    if trajectory is None:
+        raise InputError(f"body {name!r}: a prescribed body needs a trajectory (a wave maker, a function "
+                         "of t or a table)")
+    body.centre = _vector(name, "centre", centre, d) if centre is not None else x.mean(axis=0)
+    body.mass = 1.0
+    body.inertia = 1.0 if d == 2 else np.eye(3)
+    body.axis3 = tuple(axis) if d == 3 else (0.0, 0.0, 1.0)
+    until = scene.t_end if until is None else _positive(name, "until", until)
+    table, dt, what = _table(scene, name, trajectory, axis, until)
+    body.table, body.trajectory = (table, dt), what
+    _check_sweep(scene, body, x)
+
+
+def _register(scene, body, ids, x) -> None:
+    """The checked body joins the scene: its particles (added as walls if given as
+    positions), its wall group, its per-particle quantities and the rigid_bodies term."""
+    from ..terms.rigid_bodies import RigidBodies
+
+    d = scene.dim
     if ids is None:  # checked: now its particles join the scene
         added = scene.add_walls(x)
         body.ids = np.arange(added.start, added.stop)
     scene.bodies.append(body)
-    scene.wall_groups[name] = body.ids
+    scene.wall_groups[body.name] = body.ids
     offsets = np.zeros((scene.n, d))
     codes = np.asarray(scene.quantities.get("body", np.zeros(scene.n)), float).copy()
     if "body_offset" in scene.quantities:
@@ -355,4 +391,3 @@ def add(scene, name, particles, motion="floating", density=None, mass=None, cent
         term = scene.terms_by_name["rigid_bodies"]
     term.bodies = scene.bodies
     term.refresh()
-    return body

@@ -24,7 +24,8 @@ A fixed time step from the initial state: :func:`taisph.engine.timestep.initial_
 from __future__ import annotations
 
 from ..eos import IdealGas
-from ..terms import AdaptiveSmoothingLength, ArtificialConductivity, ArtificialViscosity, Continuity, InternalEnergy, PressureGradient, SummationDensity
+from ..terms import (AdaptiveSmoothingLength, ArtificialConductivity, ArtificialViscosity, Continuity,
+                     InternalEnergy, PressureGradient, SummationDensity)
 from ..eos.ideal_gas import energy, pressure, sound_speed
 from ..messages import InputError
 

@@ -186,7 +186,8 @@ class Scene:
         rho0 = self.materials[material].rho0
         density = np.full(n, rho0) if density is None else np.broadcast_to(np.asarray(density, float), (n,))
         mass = np.full(n, rho0 * self.dx**self.dim) if mass is None else np.broadcast_to(np.asarray(mass, float), (n,))
-        velocity = np.zeros((n, self.dim)) if velocity is None else np.broadcast_to(np.asarray(velocity, float), (n, self.dim))
+        velocity = (np.zeros((n, self.dim)) if velocity is None
+                    else np.broadcast_to(np.asarray(velocity, float), (n, self.dim)))
         start = len(self.position)
         self.position = np.concatenate([self.position, position])
         self.velocity = np.concatenate([self.velocity, velocity])
@@ -312,6 +313,23 @@ class Scene:
     def validate(self) -> None:
         """Raise :class:`InputError` (a ValueError) naming the first problem found (the
         scene's own checks, each term's ``check``, the equation of state's, DFSPH's)."""
+        self._check_particles()
+        for m in self.materials:
+            m.check()
+        if hasattr(self.eos, "check"):
+            self.eos.check(self)
+        self._check_settings()
+        self._check_terms()
+        if self.open_boundaries:
+            from .open_boundary import check
+
+            check(self)
+        if self.solver == "dfsph":
+            check_dfsph(self)
+
+    def _check_particles(self) -> None:
+        """The particle arrays: their shapes, finite values, positive masses and densities,
+        known materials and kinds (and the neighbour skin, checked first)."""
         d, n = self.dim, self.n
         if n == 0:
             raise InputError(f"scene {self.name!r} has no particles")
@@ -331,11 +349,13 @@ class Scene:
             if arr.dtype.kind == "f":
                 bad = np.flatnonzero(~np.all(np.isfinite(arr.reshape(n, -1)), axis=1))
                 if bad.size:
-                    raise InputError(f"scene {self.name!r}: {name} of particle {bad[0]} is not finite: {arr[bad[0]]}")
+                    raise InputError(f"scene {self.name!r}: {name} of particle {bad[0]} is not finite: "
+                                     f"{arr[bad[0]]}")
         for name, arr in (("mass", self.mass), ("density", self.density)):
             bad = np.flatnonzero(arr <= 0)
             if bad.size:
-                raise InputError(f"scene {self.name!r}: {name} of particle {bad[0]} is {arr[bad[0]]}; it must be > 0")
+                raise InputError(f"scene {self.name!r}: {name} of particle {bad[0]} is {arr[bad[0]]}; "
+                                 "it must be > 0")
         bad = np.flatnonzero((self.material < 0) | (self.material >= len(self.materials)))
         if bad.size:
             raise InputError(
@@ -345,14 +365,16 @@ class Scene:
         bad = np.flatnonzero(~np.isin(self.kind, list(KINDS.values())))
         if bad.size:
             raise InputError(f"scene {self.name!r}: particle {bad[0]} has unknown kind {self.kind[bad[0]]}")
-        for m in self.materials:
-            m.check()
-        if hasattr(self.eos, "check"):
-            self.eos.check(self)
+
+    def _check_settings(self) -> None:
+        """The numerical settings (kernel, solver, integrator, dx, h, times, Courant
+        number), the domain, periodic flags, open faces and per-particle quantities."""
+        d, n = self.dim, self.n
         if self.kernel not in KERNELS:
             raise InputError(f"unknown kernel {self.kernel!r}; choose one of {', '.join(KERNELS)}")
         if self.solver not in SOLVERS:
-            raise InputError(f"scene {self.name!r}: unknown solver {self.solver!r}; choose one of {', '.join(SOLVERS)}")
+            raise InputError(f"scene {self.name!r}: unknown solver {self.solver!r}; "
+                             f"choose one of {', '.join(SOLVERS)}")
         if self.integrator not in INTEGRATORS:
             raise InputError(f"unknown integrator {self.integrator!r}; choose one of {', '.join(INTEGRATORS)}")
         for key in ("dx", "smoothing_length", "t_end"):
@@ -376,6 +398,9 @@ class Scene:
             values = np.asarray(values, float)
             if len(values) != n or not np.all(np.isfinite(values)):
                 raise InputError(f"scene {self.name!r}: quantity {name!r} needs {n} finite values")
+
+    def _check_terms(self) -> None:
+        """The terms: taisph terms, each listed once, each passing its own check."""
         names = set()
         for t in self.terms:
             if not isinstance(t, Term):
@@ -385,12 +410,6 @@ class Scene:
             names.add(t.name)
             t.check(self)
             t.param_values(self.dim)
-        if self.open_boundaries:
-            from .open_boundary import check
-
-            check(self)
-        if self.solver == "dfsph":
-            check_dfsph(self)
 
     def describe(self) -> str:
         """The scene in a few lines: particles, numerics, effects and boundaries (the header of a run)."""

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..engine.layout import FLUID, WALL
+from ..eos import tait
+from ..geometry.shapes import support_layers
 from ..messages import InputError
 from ..terms.open_boundary import (EXTRAPOLATED, FACE_SAMPLES, PRESCRIBED, PROFILES, TIME_SAMPLES, ZONE_ROW,
                                    OpenBoundaries)
@@ -172,7 +174,46 @@ class OpenBoundary:
 def default_layers(scene) -> int:
     """Rows of buffer particles: enough to fill a kernel support (plus one for the
     particles that have just moved)."""
-    return math.ceil(scene.support_radius / scene.dx - 1e-9) + 1
+    return support_layers(scene.support_radius, scene.dx) + 1
+
+
+# --- the checks of a zone that need no fluid (the scene files' reader makes them too) ---
+ZONE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")  # a zone's name names its parameters (NAME_pressure)
+
+
+def is_zone_name(name: str) -> bool:
+    """Can `name` name a zone: a word of letters, digits and _ (not starting with a digit)?"""
+    return ZONE_NAME.fullmatch(name) is not None
+
+
+def face_sides(at, to, dim: int) -> list | None:
+    """The lengths of the sides of the face from corner `at` to corner `to`: in 2D a
+    segment (its length), in 3D a rectangle in a coordinate plane (its two sides); None
+    if `at` and `to` make no such face (2D: one point; 3D: not exactly two coordinates
+    differ)."""
+    differ = [a != b for a, b in zip(at, to)]
+    if not (any(differ) if dim == 2 else sum(differ) == 2):
+        return None
+    a, b = np.asarray(at, float), np.asarray(to, float)
+    if dim == 2:
+        return [float(np.linalg.norm(b - a))]
+    return [abs(float(v)) for v in (b - a)[np.array(differ)]]
+
+
+def whole_spacings(length: float, dx: float) -> bool:
+    """Is `length` a whole number (at least 1) of particle spacings `dx`, to a relative 1e-6?
+    (A buffer is rows of particles dx apart.)"""
+    count = length / dx
+    return math.isfinite(count) and round(count) >= 1 and math.isclose(round(count) * dx, length, rel_tol=1e-6)
+
+
+def perpendicular(normal, at, to, dim: int) -> bool:
+    """Is the non-zero vector `normal` perpendicular to the face from `at` to `to`: its
+    component along the face (2D: the segment; 3D: either side of the rectangle) at most
+    1e-9 of its length (times the face's diagonal, if that is over 1 m)?"""
+    n, d = np.asarray(normal, float), np.asarray(to, float) - np.asarray(at, float)
+    across = np.abs(n @ d) if dim == 2 else np.abs(n[d != 0]).max()
+    return not across > 1e-9 * float(np.linalg.norm(n)) * max(float(np.linalg.norm(d)), 1.0)
 
 
 def _side_counts(scene, zone: OpenBoundary, normal: np.ndarray, reach: float) -> tuple:
@@ -214,24 +255,24 @@ def zone_problem(scene, zone: OpenBoundary, normal=None) -> str | None:
     """What is wrong with `zone` in `scene`, or None; sets ``zone.normal`` (given, or
     found from the side of the face the fluid is on)."""
     dim, dx = scene.dim, scene.dx
-    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", zone.name):
+    if not is_zone_name(zone.name):
         return "its name must be a word of letters, digits and _ (it names its parameters, e.g. NAME_pressure)"
     others = [z for z in scene.open_boundaries if z is not zone]
     if any(z.name == zone.name for z in others):
         return "another open boundary has that name"
     if len(zone.at) != dim or len(zone.to) != dim:
         return f"its face's corners at and to need {dim} coordinates each, got {zone.at} and {zone.to}"
-    differ = sum(a != b for a, b in zip(zone.at, zone.to))
-    if not (differ >= 1 if dim == 2 else differ == 2):
+    lengths = face_sides(zone.at, zone.to, dim)
+    if lengths is None:
         return ("its face is a segment of non-zero length (at != to)" if dim == 2 else
                 "its face is a rectangle in a coordinate plane: at and to differ in exactly two coordinates")
-    _, _, lengths = zone.frame(dim)
     for length in lengths:
-        if not math.isclose(round(length / dx) * dx, length, rel_tol=1e-6) or round(length / dx) < 1:
+        if not whole_spacings(length, dx):
             return f"its face's extent {length:g} m is not a whole number of particle spacings dx = {dx:g} m"
-    if zone.layers * dx < scene.support_radius * (1 - 1e-9):
+    least = support_layers(scene.support_radius, dx)
+    if zone.layers < least:
         return (f"layers = {zone.layers} gives a buffer {zone.layers * dx:g} m deep, less than the kernel support "
-                f"{scene.support_radius:g} m: at least {math.ceil(scene.support_radius / dx - 1e-9)}")
+                f"{scene.support_radius:g} m: at least {least}")
     if zone.profile not in PROFILES:
         return f"profile {zone.profile!r} is not one of {', '.join(PROFILES)}"
     if zone.period is not None and not (math.isfinite(zone.period) and zone.period > 0):
@@ -254,7 +295,7 @@ def zone_problem(scene, zone: OpenBoundary, normal=None) -> str | None:
     if normal.shape != (dim,) or not np.all(np.isfinite(normal)) or not np.linalg.norm(normal) > 0:
         return f"its normal must be a non-zero vector of {dim} numbers, got {tuple(float(v) for v in normal)}"
     normal = normal / np.linalg.norm(normal)
-    if abs(abs(normal @ face) - 1.0) > 1e-9:
+    if not perpendicular(normal, zone.at, zone.to, dim):
         return f"its normal {tuple(float(v) for v in normal)} is not perpendicular to its face"
     zone.normal = tuple(float(v) + 0.0 for v in normal)  # (+ 0.0: no -0.0)
     inner, outer = _side_counts(scene, zone, normal, dx)
@@ -313,7 +354,7 @@ def add(scene, name, at, to, normal=None, velocity=None, pressure=None, profile=
                     np.where(periodic, hi, np.maximum(hi, points.max(axis=0) + scene.dx)))
     m = scene.materials[material]
     if zone.pressure is not None and getattr(m, "c0", None):
-        density = m.rho0 * (1.0 + zone.pressure * m.gamma / (m.rho0 * m.c0**2)) ** (1.0 / m.gamma)
+        density = tait.density(zone.pressure, m.rho0, m.c0, m.gamma)  # inverse Tait
     else:  # the fluid's next to the face: the particles that enter then fill the space they leave
         density = _face_density(scene, zone, m.rho0)
     velocity0 = None

@@ -19,8 +19,9 @@ from typing import Callable
 import numpy as np
 
 from ..messages import InputError
+from ..terms.gravity import STANDARD_GRAVITY
 
-G = 9.81  # m/s^2, standard gravity as the cases use it
+G = STANDARD_GRAVITY  # m/s^2, the default g of the wave makers' dispersion relations
 MICHE = 0.142  # breaking steepness H/L of deep-water waves (Miche 1944)
 MCCOWAN = 0.78  # highest solitary wave H/h (McCowan 1894)
 SOLITARY_TAIL = 1e-5  # fraction of Goring's stroke left out at each end of the motion

@@ -82,7 +82,8 @@ def _check_workers(client, address: str | None = None) -> None:
         listed = ", ".join(f"{address}: {n}" for address, n in busy.items())
         warnings.warn(f"{len(busy)} Dask worker(s) have more than one thread ({listed}); "
                       "a worker process runs one taisph run at a time (Taichi's runtime belongs to a process), so "
-                      "the other threads stay idle: start workers with --nthreads 1 --nworkers N", TaisphWarning, stacklevel=3)
+                      "the other threads stay idle: start workers with --nthreads 1 --nworkers N",
+                      TaisphWarning, stacklevel=3)
 
 
 def run_tasks(tasks: list[Task], client, threads: int | None = None, on_result=None, progress: bool = False,

@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from ..engine.timestep import SETTABLE, Controls
-from ..scene.parameters import ParameterError, Number, Range, at_least, between, courant_number, flag, integer, one_of, optional, positive
+from ..scene.parameters import (ParameterError, Number, Range, at_least, between, courant_number, flag, integer, one_of,
+                                optional, positive)
 
 
 class Numbers(Range):

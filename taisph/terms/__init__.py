@@ -10,7 +10,7 @@ from .damping_zone import DampingZone
 from .density_diffusion import DensityDiffusion
 from .density_relaxation import DensityRelaxation
 from .energy import InternalEnergy
-from .gravity import Gravity
+from .gravity import STANDARD_GRAVITY, Gravity
 from .laminar_viscosity import LaminarViscosity
 from .lennard_jones import LennardJonesWall
 from .particle_shifting import ParticleShifting
@@ -27,6 +27,7 @@ __all__ = [
     "Term",
     "NeighbourPass",
     "Gravity",
+    "STANDARD_GRAVITY",
     "Continuity",
     "PressureGradient",
     "ArtificialViscosity",

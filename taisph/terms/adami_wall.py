@@ -6,9 +6,10 @@ particles f around it,
 
     p_w = ( sum_f p_f W_wf + (g - a_w) . sum_f rho_f r_wf W_wf ) / sum_f W_wf,   r_wf = x_w - x_f,
 
-(the second sum is the hydrostatic head between the fluid and the wall particle), and
-the density that gives that pressure by the inverse equation of state,
-rho_w = rho0 (1 + p_w / B)^(1/gamma). The fluid then sees wall particles in its
+(the second sum is the hydrostatic head between the fluid and the wall particle,
+:func:`taisph.terms.hydrostatic.head`), and the density that gives that pressure by
+the inverse equation of state, rho_w = rho0 (1 + p_w / B)^(1/gamma)
+(:meth:`taisph.eos.Tait.density_at`). The fluid then sees wall particles in its
 pressure gradient and continuity sums like any neighbour
 (``PressureGradient(walls=True)``, ``Continuity(walls=True)``), so the wall pushes
 back exactly as hard as the fluid presses on it: no gap, no repulsive-force layer,
@@ -19,8 +20,9 @@ v_w = 2 v_wall - sum_f v_f W_wf / sum_f W_wf (Adami eq. 23), which
 ``LaminarViscosity(walls=True)`` uses; the continuity sum uses the wall's own
 (prescribed) velocity. a_w is the wall's acceleration: zero for walls that move at
 constant velocity, the body's for moving and floating bodies
-(:mod:`taisph.terms.rigid_bodies`, the ``wall_acceleration`` row). ``g`` is the scene's body force (the ``gravity`` parameter of :class:`Gravity`),
-zero without one. A wall particle with no fluid neighbour gets p_w = 0.
+(:mod:`taisph.terms.rigid_bodies`, the ``wall_acceleration`` row). ``g`` is the scene's
+body force (the ``gravity`` parameter of :class:`Gravity`), zero without one. A wall
+particle with no fluid neighbour gets p_w = 0.
 
 Walls need enough layers to fill the kernel support of the fluid next to them:
 ceil(support radius / spacing) layers of particles ``dx`` apart (3 for the cubic
@@ -33,6 +35,7 @@ import taichi as ti
 
 from ..engine.layout import FLUID
 from ..messages import InputError
+from .hydrostatic import head as hydrostatic_head
 from .base import NeighbourPass, Term
 
 
@@ -64,7 +67,8 @@ class AdamiWall(Term):
             if t is None or not t.options.get("walls"):
                 raise InputError(
                     f"dummy_walls needs the {name!r} term with walls=True (e.g. PressureGradient(walls=True), "
-                    "Continuity(walls=True) or SummationDensity(walls=True)): otherwise the wall pressure acts on nothing"
+                    "Continuity(walls=True) or SummationDensity(walls=True)): "
+                    "otherwise the wall pressure acts on nothing"
                 )
 
 
@@ -101,16 +105,14 @@ class _WallPressure(NeighbourPass):
     @ti.func
     def finish(self, s: ti.template(), i, acc):
         q = ti.static(self.q)
-        m = ti.static(self.m)
         dim = ti.static(s.Sv[q.position, i].n)
         v_wall = s.Sv[q.velocity, i]
         p = 0.0
         ghost = v_wall
         if acc[0] > 0.0:
             head = 0.0
-            if ti.static(self.t.has_gravity):
-                for d in ti.static(range(dim)):
-                    head += s.params[self.t.p_gravity + d] * acc[2 + d]
+            if ti.static(self.t.has_gravity):  # g . sum_f rho_f r_wf W_wf
+                head = hydrostatic_head(s, self.t.p_gravity, ti.Vector([acc[2 + d] for d in ti.static(range(dim))]))
             if ti.static(self.t.a_row >= 0):  # (g - a_w): a wall that accelerates into the fluid presses
                 a_w = s.Sv[self.t.a_row, i]
                 for d in ti.static(range(dim)):
@@ -118,7 +120,5 @@ class _WallPressure(NeighbourPass):
             p = (acc[1] + head) / acc[0]
             for d in ti.static(range(dim)):
                 ghost[d] = 2.0 * v_wall[d] - acc[2 + dim + d] / acc[0]
-        material = s.Si[q.material, i]
-        base = ti.max(1.0 + p / s.mat[material, m.B], 0.05)
-        s.Ss[q.density, i] = s.mat[material, m.rho0] * ti.pow(base, 1.0 / s.mat[material, m.gamma])
+        s.Ss[q.density, i] = self.t.eos.density_at(s, s.Si[q.material, i], p)  # the inverse equation of state
         s.Sv[q.wall_velocity, i] = ghost

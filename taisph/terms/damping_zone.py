@@ -32,8 +32,9 @@ class DampingZone(Term):
         for key in ("damping_start", "damping_direction"):
             if key not in self.values:
                 raise InputError(f"DampingZone needs {key} (a point and a vector of {scene.dim} numbers)")
-        if not np.linalg.norm(np.asarray(self.values["damping_direction"], float)) > 0.0:
-            raise InputError(f"DampingZone: damping_direction must not be zero, got {self.values['damping_direction']!r}")
+        direction = self.values["damping_direction"]
+        if not np.linalg.norm(np.asarray(direction, float)) > 0.0:
+            raise InputError(f"DampingZone: damping_direction must not be zero, got {direction!r}")
         if not float(self.values["damping_rate"]) >= 0.0:
             raise InputError(f"DampingZone: damping_rate must be >= 0 (1/s), got {self.values['damping_rate']!r}")
 

@@ -32,6 +32,7 @@ import taichi as ti
 
 from ..engine.layout import FLUID
 from ..messages import InputError
+from .hydrostatic import head as hydrostatic_head
 from .base import Term
 
 
@@ -73,10 +74,7 @@ class DensityDiffusion(Term):
                 rho_m = 0.5 * (rho_i + rho_j)
                 p_m = 0.5 * (s.Ss[q.pressure, i] + s.Ss[q.pressure, j])
                 c2 = s.mat[material, m.gamma] * (p_m + s.mat[material, m.B]) / rho_m
-                g_r = 0.0
-                for d in ti.static(range(rij.n)):
-                    g_r += s.params[self.p_gravity + d] * rij[d]
-                drho -= rho_m * g_r / c2
+                drho -= rho_m * hydrostatic_head(s, self.p_gravity, rij) / c2
             h = s.params[self.p_h]
             coeff = 2.0 * s.params[self.p.delta] * h * s.mat[material, m.c0]
             rates.d[self.r.d_density] += (coeff * drho * rij.dot(grad) / (r * r + 0.01 * h * h)

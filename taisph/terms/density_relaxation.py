@@ -12,18 +12,13 @@ density), and relaxing towards it there would pull the surface in.
 Why: an evolved density does not see the particles' spacing. Where particles are packed
 tighter or looser than their densities say, nothing pushes them back: the pressure
 follows the density, not the packing. Through open boundaries (:mod:`.open_boundary`)
-such mismatches come in with the flow and the fluid's particle count walks. Issue 27's
-reversing flow (inlet 0.01 sin(2 pi t / 0.5 s) m/s, outlet 1 Pa, H/dx = 20,
-``tests/test_open_boundaries.py``) kept its period-mean mass within 0.60 % over 10 periods
-without this term (of the first period's), and within 0.094 % (tau = 0.01 s) and 0.31 %
-(tau = 0.05 s, closest pair 0.505 dx) with it (2026-12-06, docs/open_boundaries.md). That
-stream was inviscid, and part of its walk was the outlet's inflow running into jets; with
-check 1's viscosity (nu = 2.5e-7 m^2/s) it keeps 0.21 % without the term and 0.125 % with
-it (tau = 0.01 s) at H/dx = 20, and at H/dx = 40 it holds 0.5 % only with it; inviscid,
-with its inflow made uniform (2026-12-07), 1.27 % without the term and 0.207 % with it. The
-summed density alone (``SummationDensity``) restores the count too, but a particle entering
-from a sparse buffer reads it at once (25 % light: the run stopped at 0.43 s); here it
-keeps its evolved density until its support is full, and is then relaxed over tau.
+such mismatches come in with the flow and the fluid's particle count walks; relaxing
+towards the summed density holds the mass of a reversing stream through an inlet and an
+outlet (``tests/test_open_boundaries.py``; the figures with and without the term:
+docs/open_boundaries.md, "Validation"). The summed density alone (``SummationDensity``)
+restores the count too, but a particle entering from a sparse buffer reads it at once,
+light enough to stop the run; here it keeps its evolved density until its support is
+full, and is then relaxed over tau.
 
 tau well above the step (the integrator's explicit update is stable for dt < 2 tau) and
 below the time over which the count should hold: tens to hundreds of acoustic times

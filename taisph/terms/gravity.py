@@ -5,12 +5,15 @@ import taichi as ti
 
 from .base import Term
 
+STANDARD_GRAVITY = 9.81  # m/s^2: every default gravity in taisph and its cases is this one
+
+
 
 @ti.data_oriented
 class Gravity(Term):
     """Uniform gravitational acceleration ``g`` (a dim-vector, m/s^2).
 
-    Default: 9.81 m/s^2 along -y in 2D and 3D (along -x in 1D).
+    Default: :data:`STANDARD_GRAVITY` along -y in 2D and 3D (along -x in 1D).
     """
 
     name = "gravity"
@@ -22,9 +25,9 @@ class Gravity(Term):
 
     @staticmethod
     def default(dim: int) -> tuple:
-        """9.81 m/s^2 along -y (along -x in 1D)."""
+        """:data:`STANDARD_GRAVITY` along -y (along -x in 1D)."""
         g = [0.0] * dim
-        g[min(1, dim - 1)] = -9.81
+        g[min(1, dim - 1)] = -STANDARD_GRAVITY
         return tuple(g)
 
     def check(self, scene):

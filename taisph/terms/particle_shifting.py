@@ -18,14 +18,13 @@ Why: a Lagrangian particle lattice is stretched by the flow. At a stagnation poi
 strain rate S, particles are squeezed to e^{-St} and pulled to e^{St} of their spacing,
 and once the spacing along the stretched direction approaches the kernel radius, SPH
 sums stop approximating derivatives. In the Taylor-Green vortex this destroys the
-solution at t ~ 2/(kU) (the "taylor_green" case without shifting: L1 velocity error
-0.29 at t = 0.2, see docs/accuracy.md).
+solution at t ~ 2/(kU) (the "taylor_green" case without shifting, docs/accuracy.md).
 
 Free surfaces (``free_surface=True``, compile-time; Sun et al. 2017 sec. 2.3, after Lind
 et al. 2012): near a free surface the concentration gradient points out of the fluid, and
-shifting alone pushes the surface out (still water 0.5 m deep, dx = 0.025, U = 3 m/s:
-its top particle rose 22 dx in 2 s; tests/test_free_surface_shifting.py). The same pair
-sum then gathers each particle's moment matrix
+shifting alone pushes the surface out (tests/test_free_surface_shifting.py;
+docs/validation.md, "delta+-SPH"). The same pair sum then gathers each particle's
+moment matrix
 
     B_a = -sum_b V_b r_ab (x) grad_a W_ab        (= I inside the fluid, on a lattice)
 
@@ -34,35 +33,32 @@ the cubic spline, h = 1.3 dx: 0.5 in the surface row, 0.90 one row down, 1.01 be
 Wendland C2, h = 2 dx: 0.5, 0.70, 0.94, 1.00): lambda < 0.4 (a splash, a thin jet): no
 shift; lambda < 0.75 (the surface layer): the shift's component along the normal
 n = -G / |G|, G = sum_b V_b grad_a W_ab, is removed, delta u <- (I - n n) delta u; the
-shift is kept otherwise. With the rule the same still water's top rose 0.02 dx in 2 s.
-Where the surface meets a wall with friction (the dam break's back wall, with
-``wall_friction``) it does not hold: a film of water stays on the wall (the residual
-column 0.93 high at t sqrt(g/L) = 2.2 against 0.54 without shifting, dx = 0.02; also with no shift
-at all in the surface layer), so the dam-break case refuses the two together. Scene files
-switch shifting on with this rule (``physics.shifting = U``).
+shift is kept otherwise: with the rule still water keeps its surface. Where the surface
+meets a wall with friction (the dam break's back wall, with ``wall_friction``) it does not
+hold: a film of water stays on the wall (also with no shift at all in the surface layer;
+docs/validation.md, "delta+-SPH"), so the dam-break case refuses the two together. Scene
+files switch shifting on with this rule (``physics.shifting = U``).
 
 Cap (``shift_cap``, default 0.1): a particle moves by at most shift_cap * shift_dx per
 step by shifting. The shift velocity above is a diffusion of the particle concentration
 with coefficient ~4 U h, explicit in time: its step, 4 U h dt / h^2, is ~0.1 under the
 weakly compressible time step (Sun et al.'s CFL Ma), but a solver with 10-50 times longer
-steps overshoots with the same coefficient (an incompressible build tried on still water
-with U = 1 m/s stopped on the density guard; the DFSPH solver does not take shifting).
+steps overshoots with the same coefficient (the DFSPH solver does not take shifting).
 
 Limits of this implementation: the quantities of a shifted particle are not corrected
 for the displacement (the "simple procedure" of Sun et al. 2017; the error is of the
 order of the displacement times the field gradients). Without ``free_surface`` it is for
 confined or periodic flows. Nor are their volumes: a shift moves a particle without its
-evolved density following, and still water's volume drifts (the level rose 3-8 dx in 3-6 s
-without artificial viscosity, in either formulation; viscosity slows it; docs/validation.md,
-"delta+-SPH"). Refused with the Riemann formulation (``check``), which runs without
-artificial viscosity by default.
+evolved density following, and still water's volume drifts without artificial viscosity,
+in either formulation; viscosity slows it (docs/validation.md, "delta+-SPH"). Refused with
+the Riemann formulation (``check``), which runs without artificial viscosity by default.
 
 Walls: the particles of walls (dummy or any other) count in the sum like fluid ones,
 with their volume m_b / rho_b: they fill the space beyond the wall, so that next to a
 wall the concentration is full and its gradient does not push the fluid into the wall.
-(Without them, the gradient at a wall points out of the fluid, as at a free surface:
-the cylinder case's fluid was pushed through the channel's walls and its run stopped
-at 0.46 s.) Open boundaries' buffer particles are fluid particles and count too.
+(Without them, the gradient at a wall points out of the fluid, as at a free surface,
+and pushes the fluid through the wall.) Open boundaries' buffer particles are fluid
+particles and count too.
 """
 
 import math
@@ -104,11 +100,9 @@ class ParticleShifting(Term):
         if u is None or not u >= 0:
             raise InputError(f"particle_shifting needs shift_speed >= 0 (the reference flow speed, m/s), got {u!r}")
         if any(t.name == "riemann" for t in scene.terms):
-            # measured: still water (1 m x 0.5 m, dx = 0.025, Wendland h = 2 dx, U = 3.2 m/s) went unstable,
-            # pressure rms 2 % of rho g H at 0.5 s, 12 % at 2 s, 35 % at 3 s. The cause, found later: shifting
-            # changes the particles' volumes and the evolved density does not follow, so the water's volume
-            # drifts, in either form; artificial viscosity slows it (the Riemann form runs without it by
-            # default: 81 % in 6 s with the spline; docs/validation.md, "delta+-SPH")
+            # shifting changes the particles' volumes and the evolved density does not follow, so
+            # still water's volume drifts, in either form; artificial viscosity slows it, and the
+            # Riemann form runs without it by default (docs/validation.md, "delta+-SPH")
             raise InputError("particle_shifting cannot be used with the Riemann formulation: still water under "
                              "both drifted (pressure error 35 % of rho g H in 3 s); use the symmetric form "
                              "(formulation = \"symmetric\", Continuity + PressureGradient) with artificial "

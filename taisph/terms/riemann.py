@@ -24,7 +24,8 @@ their approach speed, so a smooth flow keeps little numerical viscosity (the rea
 its smooth, low-dissipation wall pressure; the paper's dam break against Buchner's P1).
 Neither artificial viscosity nor density diffusion is needed (a scene may still add them).
 
-Two choices of ours, each measured (docs/validation.md, "Wall pressure"):
+Two choices of ours (what each gave against the alternative: docs/validation.md, "The
+Riemann formulation"):
 - The hydrostatic part of the pressure difference, p^H_ij = rho_m g . (x_i - x_j), is
   taken out of the continuity equation's diffusion when the scene has gravity, as the
   density diffusion term does (Fourtakas et al. 2019): without it the diffusion carries
@@ -33,8 +34,8 @@ Two choices of ours, each measured (docs/validation.md, "Wall pressure"):
   state with its extrapolated pressure and density; its velocity is the mirror of i's
   along the walls' normal n_i at i (U_L - U_R = 2 (v_i - v_wall) . n_i, the paper's
   U_R = 2 u_wall - U_L), n_i from a neighbour sum over the walls before the force pass
-  (:class:`_WallNormal`). Along r_ij instead, the dissipation acted as a friction on the
-  fluid sliding past: the dam break's front fell behind by 8 % at T = 2. The continuity
+  (:class:`_WallNormal`). Along r_ij instead, the dissipation acts as a friction on the
+  fluid sliding past and holds the dam break's front back. The continuity
   equation's diffusion skips walls (their pressure is the fluid's, extrapolated).
 
 Every pair contributes equal and opposite momentum (p* and rho_i rho_j are symmetric,
@@ -45,6 +46,7 @@ import taichi as ti
 
 from ..engine.layout import FLUID
 from ..messages import InputError
+from .hydrostatic import head as hydrostatic_head
 from .base import NeighbourPass, Term
 
 
@@ -111,10 +113,7 @@ class Riemann(Term):
             rates.acc -= (2.0 * mj * p_star / (rho_i * rho_j)) * grad
             dp = p_i - p_j
             if ti.static(self.has_gravity):
-                g_r = 0.0
-                for d in ti.static(range(rij.n)):
-                    g_r += s.params[self.p_gravity + d] * rij[d]
-                dp -= rho_m * g_r  # the hydrostatic difference p_i - p_j = rho g . (x_i - x_j)
+                dp -= rho_m * hydrostatic_head(s, self.p_gravity, rij)  # hydrostatic p_i - p_j = rho g . r_ij
             f_r = grad.dot(rij) / r  # F_ij r_ij (< 0)
             rates.d[self.r.d_density] += rho_i * (mj / rho_j) * (vij.dot(grad) + diffuse * dp * f_r / (rho_m * c_m))
 

@@ -9,7 +9,8 @@ resolutions and recorder with which the seed's three scenes are measured (the te
 and ``python -m tools.studies.seed_measure``).
 """
 
-from .runs import VALIDATIONS, Outcome, couette, dam_break, elliptical_drop, hydrostatic_tank, poiseuille, reference, run, taylor_green
+from .runs import (VALIDATIONS, Outcome, couette, dam_break, elliptical_drop, hydrostatic_tank, poiseuille, reference,
+                   run, taylor_green)
 
 __all__ = ["VALIDATIONS", "Outcome", "run", "reference", "dam_break", "hydrostatic_tank", "poiseuille",
            "couette", "taylor_green", "elliptical_drop"]

@@ -21,8 +21,8 @@ existing cluster (``docs/sweeps.md``). ``setup_s`` is the sweep's compile time:
 building a simulation until its first step is done (kernels compile once per worker
 process and configuration). Runs are grouped by precision (Taichi's precision is
 process-wide). Each wall time is one run (``repeat`` N takes the median of N): on a
-shared 2-core machine timings vary by up to 2x, so read differences below ~30 % as
-noise. The command line is
+shared machine small differences of time are noise (docs/accuracy.md, "How to read
+the times"). The command line is
 ``python -m tools.studies.accuracy_cost`` (docs/accuracy.md); ``quick=True`` is its CI mode,
 which tests/test_accuracy_study.py runs.
 """

@@ -45,9 +45,10 @@ import numpy as np
 from .outcome import Outcome
 from .probed import run_probed
 from ..scene.catalogue import find_scene_file
+from ..terms import STANDARD_GRAVITY
 
 DATA = Path(__file__).resolve().parent / "references" / "data"
-H, G, RHO0 = 0.6, 9.81, 1000.0
+H, G, RHO0 = 0.6, STANDARD_GRAVITY, 1000.0
 IMPACT_LEVEL = 0.1  # P at which the impact is timed
 WINDOW = (2.0, 6.0)  # T range of the mean absolute error
 NOISE_WIDTH = 0.02  # T width of the moving average the probe noise is measured against (issue 26)

@@ -83,12 +83,11 @@ def window_means(c: dict, average: float) -> dict:
 def phase_max(t, values, frequency: float, bins: int = 20) -> float:
     """The maximum over one shedding period of `values` averaged at equal phase: their
     0.02 s moving average over whole periods (1 / frequency) folded onto one and
-    averaged in `bins` phase bins. The samples' acoustic noise (standard deviations of
-    3.1 in C_D and 4.2 in C_L at Re 100, D/dx = 10, with the summed density: larger than
-    the shedding's swing) sets the maximum of any moving average alone (a 0.02 s one
-    read C_D max 5.5, C_L max 2.3); folding the ~6 periods of a 2 s window removes most
-    of it. The estimate still depends on the filter by ~10 % there (C_D max 3.6-4.0,
-    C_L max 0.63-0.78 over 0.02-0.05 s averages and 20-40 bins). NaN without a frequency."""
+    averaged in `bins` phase bins. The samples' acoustic noise (with the summed density
+    larger than the shedding's swing) sets the maximum of any moving average alone;
+    folding the ~6 periods of a 2 s window removes most of it. The estimate still depends
+    on the filter's width and bins (docs/validation.md, "Re 100"). NaN without a
+    frequency."""
     if not np.isfinite(frequency) or frequency <= 0:
         return math.nan
     smooth = moving_average(t, values, 0.02)
@@ -119,9 +118,9 @@ def strouhal(t, cl, mean) -> float:
     """The frequency f of C_L's oscillation (St = f D / U in main): the peak of the power
     spectrum of its 0.02 s moving average (the samples resampled evenly, the mean removed,
     zero-padded 8x), searched below 25 Hz (half the average's first zero; shedding at
-    Re 100 is ~3 Hz). Without the low pass the samples' acoustic noise (~150 Hz with the
-    summed density) held the peak: St 14.5 printed for a C_L that visibly oscillated at
-    2.9 Hz. NaN below three periods or with no oscillation (peak-to-peak of a 0.05 s
+    Re 100 is ~3 Hz). Without the low pass the samples' acoustic noise, far above the
+    shedding's frequency with the summed density, holds the peak (docs/validation.md,
+    "Re 100"). NaN below three periods or with no oscillation (peak-to-peak of a 0.05 s
     moving average below 0.05)."""
     if len(t) < 16:
         return math.nan

@@ -5,8 +5,9 @@ it, compares it with its reference and returns an :class:`Outcome`: one headline
 ``error`` (the number the accuracy study plots), all the metrics computed on the way,
 and the cost (steps, particles, wall seconds spent stepping, which excludes building
 the simulation and compiling its kernels). The references are analytic
-(:mod:`taisph.validation.references.analytic`) or experimental (CSV files in ``taisph/validation/references/data/`` with their
-sources in the headers). Tolerances and measured values: ``docs/validation.md``.
+(:mod:`taisph.validation.references.analytic`) or experimental (CSV files in
+``taisph/validation/references/data/`` with their sources in the headers). Tolerances and
+measured values: ``docs/validation.md``.
 
     >>> from taisph import validation
     >>> out = validation.run("poiseuille", dx=5e-5)      # doctest: +SKIP
@@ -34,7 +35,8 @@ from ..run.simulation import Simulation
 from ..scene import catalogue
 
 DATA = Path(__file__).resolve().parent / "references" / "data"
-FINE_FRONT = "dam_break_front_defaults_dx0.005.csv"  # the dam break's front at dx = 0.005 (tools/studies/dam_break_reference.py)
+# the dam break's front at dx = 0.005 (tools/studies/dam_break_reference.py)
+FINE_FRONT = "dam_break_front_defaults_dx0.005.csv"
 
 
 def reference(name: str) -> tuple[np.ndarray, str]:
@@ -111,7 +113,8 @@ def _deviations(name: str, d: np.ndarray) -> dict:
 
 
 # --- dam break ------------------------------------------------------------------------------------
-def dam_break(precision=None, T_end: float = 3.1, samples: int = 32, against: str = "koshizuka_oka", **params) -> Outcome:
+def dam_break(precision=None, T_end: float = 3.1, samples: int = 32, against: str = "koshizuka_oka",
+              **params) -> Outcome:
     """Surge front Z = x_front/L against T = t sqrt(2 g/L) (Koshizuka & Oka 1996 as
     shipped by PySPH; Martin & Moyce 1952 table, n^2 = 2) and residual column height
     H = h/(2L) against tau = t sqrt(g/L) (Martin & Moyce), for T <= T_end.

@@ -6,8 +6,9 @@ tests/test_seed_cases.py asserts their quantities and python -m tools.studies.se
 from __future__ import annotations
 
 from ..run.simulation import Simulation
+from ..terms import STANDARD_GRAVITY
 
-G = 9.81  # m/s^2, the cases' default gravity
+G = STANDARD_GRAVITY  # m/s^2, the cases' default gravity
 DX_WEDGE = 0.04  # dam_break_wedge
 DX_DROP = 0.02  # drop_on_incline (2D)
 DX_TWO = 0.04  # two_fluids

@@ -20,14 +20,15 @@ from the rate at which their error fell over the last three, r = (e_k / e_{k-3})
 moved towards 1 by :data:`SAFETY` (rho = 1 - SAFETY (1 - r)): an estimate below the
 true rho amplifies the slowest modes, one above it only accelerates less. A solve whose
 error climbs above twice its best returns to plain Jacobi and estimates rho again.
-Solves that converge within START iterations (most steps of a flow: 2-4) are plain
-Jacobi, bit for bit. Measured choices: docs/dfsph.md, "The solve".
+Solves that converge within START iterations (most steps of a flow) are plain
+Jacobi, bit for bit. START and SAFETY against the alternatives: docs/dfsph.md,
+"Chebyshev acceleration".
 """
 
 import math
 
-START = 8  # plain Jacobi iterations before the first estimate of rho (5: the same iterations, 12: more)
-SAFETY = 0.5  # rho = 1 - SAFETY (1 - r): halfway between the measured rate r and 1 (1: r itself)
+START = 8  # plain Jacobi iterations before the first estimate of rho
+SAFETY = 0.5  # rho = 1 - SAFETY (1 - r): halfway between the observed rate r and 1 (1: r itself)
 DIVERGING = 2.0  # an error above this many times the solve's best: back to plain Jacobi
 
 

@@ -2,13 +2,14 @@
 the host side that iterates the solves): :class:`Bodies`, the kernels of one field set.
 What one neighbour contributes to each sum is in :mod:`.visitors`.
 
-The measured choices of the method are compiled in (docs/dfsph.md, "The measured
-choices", records the alternatives): each solve starts from the last step's pressures
-in full (warm start 1; 0.9 did not converge on still water); the update is a projected
-Jacobi iteration, in which pressures may fall but not below zero (SPlisHSPlasH's
-pressures that only rise gave still water a 24 % error); a particle short of the rest
-density (a free surface) must keep its density; the walls mirror the pressure with the
-share :data:`WALL_MIRROR` and add the hydrostatic head (:class:`.visitors.NonPressure`).
+The choices of the method are compiled in (docs/dfsph.md, "The measured choices",
+records the alternatives and what each gave): each solve starts from the last step's
+pressures in full (warm start 1: a partial warm start leaves still water unconverged);
+the update is a projected Jacobi iteration, in which pressures may fall but not below
+zero (SPlisHSPlasH's pressures that only rise leave still water's pressure far off); a
+particle short of the rest density (a free surface) must keep its density; the walls
+mirror the pressure with the share :data:`WALL_MIRROR` and add the hydrostatic head
+(:class:`.visitors.NonPressure`).
 """
 
 import taichi as ti
@@ -156,21 +157,16 @@ class Bodies:
         """One Jacobi iteration of the divergence (density False) or constant-density
         solve: the velocity every fluid particle would have with the current pressures,
         u = v + dt a(k) (v* + dt a(k) for the density), then the residuals, the updates
-        and the mean error into ``result[0]``. The residual is the density rate of u,
-        sum_j coef (u_i - u_j) . r_ij (divergence), or the density error it leaves,
-        max(rho - rest, 0) + dt times that (density): the source and the pressures'
-        response in one sum over the pairs (docs/dfsph.md, "Where the time goes"). The
-        step applies the pressures of the last update, one better than those whose error
-        was measured (measured: applying those instead, the solves took 2.5 iterations
-        per step instead of 2.0, for one pass over the pairs saved)."""
-        q, grid, x, real = self.q, self.grid, self.x, self.real
-        f = x.pairs
-        p = self.p
+        and the mean error into ``result[0]`` (:meth:`_update`). The step applies the
+        pressures of the last update, one better than those whose error was summed
+        (applying those would save a pass over the pairs and cost more iterations than it
+        saves: docs/dfsph.md, "Where the time goes")."""
+        q, x, real = self.q, self.x, self.real
         local = self.local
         acceleration = self._acceleration()
+        update = self._update(density)
         row = q.kappa if density else q.kappa_v
         base = q.vstar if density else q.velocity
-        rho0_col = self.solver.eos.m.rho0
         forces = self._non_pressure() if first else None
 
         @ti.func
@@ -193,41 +189,7 @@ class Bodies:
                 weight = ti.cast(x.result[2], real)  # the Chebyshev weight of this iteration (1: plain Jacobi)
                 for i in range(begin, end):
                     if s.Si[q.kind, i] == FLUID:
-                        xi = s.Sv[q.position, i]
-                        ui = s.Sv[q.v_pred, i]
-                        rate = ti.cast(0.0, real)
-                        for k in range(f.count[i]):
-                            j = f.nbr[i, k]
-                            rate += f.coef[i, k] * (ui - s.Sv[q.v_pred, j]).dot(
-                                grid.separation(s, xi, s.Sv[q.position, j]))
-                        residual = rate
-                        if ti.static(density):
-                            residual = s.Ss[q.source, i] + dt * rate  # source: the density beyond the rest's
-                        rho0 = s.mat[s.Si[q.material, i], rho0_col]
-                        if ti.static(not density):
-                            if f.count[i] < s.params[p["dfsph_min_neighbours"]]:
-                                residual = 0.0  # too few neighbours for a divergence (a splash)
-                        # the error: compression, and expansion where the pressure is positive
-                        # (there the density must be rho0 both ways; at zero pressure, as at a
-                        # free surface, a lower density is allowed)
-                        compression = ti.max(residual, 0.0) / rho0
-                        if s.Ss[row, i] > 0.0:
-                            compression = ti.abs(residual) / rho0
-                        if dt > 0.0:  # projected Jacobi: a pressure may fall, not below zero
-                            k_old = s.Ss[row, i]
-                            k_new = ti.max(0.0, k_old + s.params[p["dfsph_relaxation"]] * residual
-                                           * s.Ss[q.alpha, i] / scale)
-                            if ti.static(density):
-                                # Chebyshev semi-iteration (weight w > 1, set by the host; 0 or 1: plain Jacobi): the new
-                                # pressure over-shoots along the last two iterates' direction
-                                if weight > 1.0:
-                                    previous = s.Ss[q.kappa_prev, i]
-                                    k_new = ti.max(0.0, previous + weight * (k_new - previous))
-                                s.Ss[q.kappa_prev, i] = k_old
-                            s.Ss[row, i] = k_new
-                        if ti.static(not density):
-                            compression *= dt
-                        error += ti.cast(compression, ti.f64)
+                        error += ti.cast(update(s, i, dt, scale, weight), ti.f64)
                         count += 1
                 x.part[c, 0] = error
                 x.part[c, 1] = ti.cast(count, ti.f64)
@@ -236,6 +198,59 @@ class Bodies:
                 _mean_over_chunks(x, 0)
 
         return body
+
+    def _update(self, density: bool):
+        """ti.func(s, i, dt, scale, weight) -> fluid particle i's error: its residual, the
+        density rate of u, sum_j coef (u_i - u_j) . r_ij (divergence), or the density error
+        it leaves, max(rho - rest, 0) + dt times that (density): the source and the
+        pressures' response in one sum over the pairs (docs/dfsph.md, "Where the time
+        goes"); then its pressure's projected Jacobi update (scale: dt^2 or dt; weight:
+        the Chebyshev weight of the density solve, :mod:`.chebyshev`)."""
+        q, grid, real = self.q, self.grid, self.real
+        f = self.x.pairs
+        p = self.p
+        row = q.kappa if density else q.kappa_v
+        rho0_col = self.solver.eos.m.rho0
+
+        @ti.func
+        def update(s: ti.template(), i, dt, scale, weight):
+            xi = s.Sv[q.position, i]
+            ui = s.Sv[q.v_pred, i]
+            rate = ti.cast(0.0, real)
+            for k in range(f.count[i]):
+                j = f.nbr[i, k]
+                rate += f.coef[i, k] * (ui - s.Sv[q.v_pred, j]).dot(
+                    grid.separation(s, xi, s.Sv[q.position, j]))
+            residual = rate
+            if ti.static(density):
+                residual = s.Ss[q.source, i] + dt * rate  # source: the density beyond the rest's
+            rho0 = s.mat[s.Si[q.material, i], rho0_col]
+            if ti.static(not density):
+                if f.count[i] < s.params[p["dfsph_min_neighbours"]]:
+                    residual = 0.0  # too few neighbours for a divergence (a splash)
+            # the error: compression, and expansion where the pressure is positive
+            # (there the density must be rho0 both ways; at zero pressure, as at a
+            # free surface, a lower density is allowed)
+            compression = ti.max(residual, 0.0) / rho0
+            if s.Ss[row, i] > 0.0:
+                compression = ti.abs(residual) / rho0
+            if dt > 0.0:  # projected Jacobi: a pressure may fall, not below zero
+                k_old = s.Ss[row, i]
+                k_new = ti.max(0.0, k_old + s.params[p["dfsph_relaxation"]] * residual
+                               * s.Ss[q.alpha, i] / scale)
+                if ti.static(density):
+                    # Chebyshev semi-iteration (weight w > 1, set by the host; 0 or 1: plain
+                    # Jacobi): the new pressure over-shoots along the last two iterates' direction
+                    if weight > 1.0:
+                        previous = s.Ss[q.kappa_prev, i]
+                        k_new = ti.max(0.0, previous + weight * (k_new - previous))
+                    s.Ss[q.kappa_prev, i] = k_old
+                s.Ss[row, i] = k_new
+            if ti.static(not density):
+                compression *= dt
+            return compression
+
+        return update
 
     # --- the non-pressure forces and the first density iteration ----------------------------
     def _non_pressure(self):

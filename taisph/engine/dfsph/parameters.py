@@ -24,7 +24,8 @@ MIN_NEIGHBOURS = {1: 3, 2: 7, 3: 20}  # 2D, 3D: SPlisHSPlasH's
 def relaxation(scene) -> float:
     """omega of the Jacobi updates: min(0.5, 2.3 / sqrt(N)), N the lattice particles in
     a kernel support (a ball of it over dx^dim): more neighbours weaken the diagonal the
-    update divides by (measured in 2D and 3D: docs/dfsph.md, "The solve")."""
+    update divides by (the bound is the largest that converged in 2D and 3D: docs/dfsph.md,
+    "The solve")."""
     ball = neighbours.ball_volume(scene.support_radius, scene.dim)
     return min(0.5, 2.3 / math.sqrt(ball / scene.dx**scene.dim))
 
@@ -50,10 +51,10 @@ def gradient_scale(scene) -> float:
     """1 / B, B the gradient moment of the scene's lattice (:func:`smoothing.lattice_moment`:
     1.0105 for the cubic spline with h = 1.3 dx in 2D): the pressure force's factor. The
     sum sum_j m_j (k_i + k_j) grad_i W_ij overstates a pressure gradient by B on the
-    lattice, so water at rest settled at B times too small a pressure gradient: still water
-    1 % of rho g H short at the floor (docs/dfsph.md, "Still water"). Scaling the pressure
-    force (and the factor alpha with it) leaves the velocities the solves produce unchanged
-    and gives the pressures their continuum meaning."""
+    lattice, so water at rest would settle at B times too small a pressure gradient, its
+    pressure short at the floor by (1 - 1/B) rho g H (docs/dfsph.md, "Still water").
+    Scaling the pressure force (and the factor alpha with it) leaves the velocities the
+    solves produce unchanged and gives the pressures their continuum meaning."""
     return 1.0 / smoothing.lattice_moment(scene.kernel, scene.dim, scene.smoothing_length, scene.dx)
 
 

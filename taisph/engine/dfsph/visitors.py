@@ -11,18 +11,17 @@ from ..layout import FLUID, WALL
 # particle i beside it, with i's pressure (p_b = p_i: phi k_i in the symmetric form) and
 # the mirrored velocity (v_b = 2 v_wall - v_i: phi (v_i - v_wall) in the density rate).
 # Counting the share in both keeps the pressure solve's matrix symmetric positive
-# semi-definite; with phi in the pressure only it had negative eigenvalues at the walls,
-# whose modes the Jacobi iteration amplified (docs/dfsph.md, "Walls"). 1 crushed particles
-# into the wall, 1.5 left still water 7-12 % off, 3 stalled dt.
+# semi-definite; with phi in the pressure only it has negative eigenvalues at the walls,
+# whose modes the Jacobi iteration amplifies. 2 is p_b = p_i in the symmetric form (the other
+# values tried: docs/dfsph.md, "Walls").
 WALL_MIRROR = 2.0
 
 # epsilon of the pairing repulsion (NonPressure): two fluid particles closer than the
 # lattice spacing dx push each other apart with epsilon ((W(r) / W(dx))^4 - 1) times their
 # pressure force, as in Monaghan's (2000) artificial pressure, but only below dx, so that
 # it is zero on the lattice and in any arrangement without close pairs. Without it, water
-# at rest with the cubic spline (h = 1.3 dx) pairs after 2-3 s (half the particles with a
-# neighbour within 0.6 dx after 5 s; pressure rms 1.4 %); with 0.05 or 0.2 none in 10 s
-# (0.06 %) (docs/dfsph.md, "Still water").
+# at rest with the cubic spline (h = 1.3 dx) pairs, the pairing instability of B-splines
+# (docs/dfsph.md, "Still water", with the values of epsilon tried).
 PAIRING_REPULSION = 0.05
 
 
