@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import taisph
-from taisph.engine import guards
+from taisph.engine import guards, solvers
 from taisph.engine import status as st
 from taisph.run.simulation import SimulationError
 from test_dfsph import dfsph_scene, mean_compression
@@ -114,9 +114,11 @@ def test_the_speed_guard_stops_a_particle_far_faster_than_the_flow(tmp_path):
     evidence; from step() as from run(). Here the limit is set to 1 m/s, which the dam
     break's surge passes within 0.2 s."""
     scene = dfsph_scene(dx=0.04)
-    assert guards.max_speed(scene, taisph.Simulation(scene).controls) == pytest.approx(
+    limit = solvers.of(scene).max_speed(scene)  # the method's default (Method.max_speed)
+    assert guards.max_speed(scene, taisph.Simulation(scene).controls, limit) == pytest.approx(
         max(m.c0 for m in scene.materials))
-    assert guards.max_speed(taisph.cases.dam_break(dx=0.04), taisph.engine.timestep.Controls()) == 0.0  # WCSPH: off
+    wcsph = taisph.cases.dam_break(dx=0.04)
+    assert guards.max_speed(wcsph, taisph.engine.timestep.Controls(), solvers.of(wcsph).max_speed(wcsph)) == 0.0  # off
     for advance in ("run", "step"):
         sim = taisph.Simulation(dfsph_scene(dx=0.04), max_speed=1.0)
         with pytest.raises(SimulationError) as err:

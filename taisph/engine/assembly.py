@@ -18,12 +18,9 @@ import collections
 import numpy as np
 import taichi as ti
 
-from . import guards, integrators, kernels, neighbours, runtime, smoothing, timestep
-from .dfsph import solver as dfsph
-from .dfsph import pairs
+from . import guards, integrators, kernels, neighbours, runtime, smoothing, solvers, timestep
+from . import status as st
 from .layout import Layout
-from ..terms import open_boundary, rigid_bodies
-from ..scene.solvers import dfsph_kept_terms
 
 
 class Buffers(collections.namedtuple("Buffers", "v s i")):
@@ -35,7 +32,7 @@ class Buffers(collections.namedtuple("Buffers", "v s i")):
 
 class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count cell_start cell_fill "
                                           "params mat sizes status flags x_ref nlist ncount aux_int aux_real "
-                                          "tables bodies")):
+                                          "store")):
     """The fields every kernel works on (:mod:`.fields`); a kernel takes ``t_target``,
     the time the step must not pass (f64). Inside kernels ``s.<name>``:
 
@@ -47,8 +44,7 @@ class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count 
     status, flags  device clock, dt history and guard flags (:mod:`.status`)
     x_ref, nlist, ncount   neighbour lists (a dummy row without lists; :mod:`.neighbours`)
     aux_int, aux_real   outputs of auxiliary kernels (neighbour pairs, probes); dummies in a step
-    tables         lookup tables of terms (open boundaries' velocity tables; one entry without)
-    bodies         rigid bodies' state and motion tables, f64 (:mod:`taisph.terms.rigid_bodies`; one entry without)
+    store          the terms' own device arrays, by name (``Term.device_arrays``): ``s.store.<name>``
     """
 
     __slots__ = ()
@@ -73,8 +69,8 @@ class Args(collections.namedtuple("Args", "Cv Cs Ci Sv Ss Si cell_of cell_count 
         return self._replace(Sv=buffers.v, Ss=buffers.s, Si=buffers.i)
 
     def state_fields(self) -> tuple:
-        """The fields of the state, all but the auxiliary kernels' outputs."""
-        return tuple(getattr(self, name) for name in self._fields if name not in self.AUX)
+        """The fields of the state, all but the auxiliary kernels' outputs and the terms' own arrays."""
+        return tuple(getattr(self, name) for name in self._fields if name not in self.AUX + ("store",))
 
 
 class Config(collections.namedtuple("Config", "dim kernel integrator eos terms periodic lists solver")):
@@ -82,17 +78,16 @@ class Config(collections.namedtuple("Config", "dim kernel integrator eos terms p
 
 
 def config_of(scene) -> Config:
-    solver = getattr(scene, "solver", "wcsph")
-    terms = dfsph_kept_terms(scene) if solver == "dfsph" else scene.terms
+    method = solvers.of(scene)
     return Config(
         dim=scene.dim,
         kernel=scene.kernel,
-        integrator="dfsph" if solver == "dfsph" else integrators.INTEGRATORS[scene.integrator].name,
+        integrator=integrators.INTEGRATORS[method.integrator(scene)].name,
         eos=scene.eos.compile_key(),
-        terms=tuple(t.compile_key() for t in terms),
+        terms=tuple(t.compile_key() for t in method.terms(scene)),
         periodic=tuple(bool(p) for p in scene.periodic),
         lists=scene.neighbour_skin > 0,
-        solver=solver,
+        solver=method.name,
     )
 
 
@@ -115,23 +110,35 @@ KERNEL_PARAMS = (("smoothing_length", 1), ("inv_h", 1), ("w_norm", 1), ("grad_no
 
 
 class Solver:
-    def __init__(self, scene, rt: runtime.Runtime):
-        self.dim = dim = scene.dim
-        self.real = real = rt.real
-        self.kernel = smoothing.make(scene.kernel, dim)
-        self.sigma = self.kernel.sigma(dim)
-        # DFSPH (engine/dfsph/solver.py): the scene's non-pressure terms, no equation of state, its own step
-        self.dfsph = getattr(scene, "solver", "wcsph") == "dfsph"
-        terms = self.active_terms(scene)
-        eos = dfsph.Incompressible() if self.dfsph else scene.eos
+    """One compile-time configuration: what is stored, the parameter table, and the bound
+    equation of state, terms, integrator, grid, time step and guards, for the method of
+    the scene's solver (:mod:`.solvers`; ``self.method``)."""
 
-        # --- what is stored --------------------------------------------------
+    def __init__(self, scene, rt: runtime.Runtime):
+        self.dim = scene.dim
+        self.real = rt.real
+        self.kernel = smoothing.make(scene.kernel, self.dim)
+        self.sigma = self.kernel.sigma(self.dim)
+        self.method = method = solvers.of(scene)
+        for name in solvers.METHODS:  # solver.<name>: is this the method of that name? (the probes ask)
+            setattr(self, name, name == method.name)
+        terms = method.terms(scene)
+        eos = method.eos(scene)
+        integ = self._lay_out(scene, terms, eos)
+        mcols = self._parameter_table(terms, eos)
+        self._bind(scene, terms, eos, integ, mcols)
+        self.field_sets = []  # the FieldSets allocated for this configuration (taisph.engine.fields)
+        self._plug_in_subsystems()
+
+    def _lay_out(self, scene, terms, eos):
+        """What is stored per particle (the layout): the integrator's rows, the equation of
+        state's, the terms', the method's. Returns the integrator (unbound)."""
         integrated = []
         for t in terms:
             integrated.extend(t.integrates.items())
         self.integrated = tuple(integrated)
         self.has_shift = any(t.has_shift for t in terms)
-        integ = integrators.make("euler" if self.dfsph else scene.integrator, self.integrated, self.has_shift)
+        integ = integrators.make(self.method.integrator(scene), self.integrated, self.has_shift)
         extra_v, extra_s = integ.quantities()
         vectors = list(extra_v)
         scalars = list(extra_s) + list(eos.scalars)
@@ -142,31 +149,36 @@ class Solver:
             scalars += t.scalars
             integers += t.integers
             derived += t.derived
-        if self.dfsph:
-            v, sc, der = dfsph.rows(self.has_shift, any(t.with_walls for t in terms))
-            vectors, scalars, derived = vectors + v, scalars + sc, derived + der
-        self.layout = layout = Layout(vectors, scalars, integers, derived, pressure_derived=not self.dfsph)
+        v, sc, der = self.method.rows(terms, self.has_shift)
+        vectors, scalars, derived = vectors + list(v), scalars + list(sc), derived + list(der)
+        self.layout = Layout(vectors, scalars, integers, derived, pressure_derived=self.method.pressure_derived)
         self.outputs = tuple(dict.fromkeys([*eos.outputs, *(o for t in terms for o in t.outputs)]))
+        return integ
 
-        # --- runtime parameter table: engine parameters, then the terms' -----
+    def _parameter_table(self, terms, eos):
+        """Where each runtime parameter lives: the engine's, the method's, then the terms'.
+        Returns the material table's columns (a namedtuple of their indices)."""
         rows = {}
         size = 0
         for name, width in (KERNEL_PARAMS + neighbours.PARAMS + timestep.PARAMS + guards.PARAMS
-                            + (dfsph.PARAMS if self.dfsph else ())):
+                            + tuple(self.method.params)):
             rows[name] = size
-            size += dim if width == "dim" else width
+            size += self.dim if width == "dim" else width
         for t in terms:
             for name, default in t.params.items():
                 if name in rows:
                     raise ValueError(f"parameter {name!r} is declared twice (by {type(t).__name__})")
                 rows[name] = size
-                size += dim if default == "vector" else 1
+                size += self.dim if default == "vector" else 1
         self.param_rows = rows
         self.n_params = size
         self.material_columns = eos.columns
-        mcols = collections.namedtuple("MaterialColumns", eos.columns)(*range(len(eos.columns)))
+        return collections.namedtuple("MaterialColumns", eos.columns)(*range(len(eos.columns)))
 
-        # --- compile-time assembly -------------------------------------------
+    def _bind(self, scene, terms, eos, integ, mcols):
+        """Bind the equation of state, the terms, the integrator, the grid, the time step and
+        the guards to the layout and the parameter rows (compile-time assembly)."""
+        dim, real, layout, rows = self.dim, self.real, self.layout, self.param_rows
         self.eos = eos.bind(layout, mcols)
         rate_rows = collections.namedtuple("RateRows", [r for _, r in self.integrated] or ["none"])(
             *range(max(1, len(self.integrated)))
@@ -184,11 +196,11 @@ class Solver:
         self.grid = neighbours.Grid(dim, real, rows, scene.periodic, self.lists,
                                     layout.q.kind if walls_short else None)
         viscosity_rows = [rows[t.viscosity_param] for t in terms if t.viscosity_param]
-        if self.dfsph:  # artificial viscosity's equivalent (engine/dfsph/solver.py)
-            viscosity_rows.append(rows["dfsph_nu_art"])
+        viscosity_rows += [rows[name] for name in self.method.viscosity_params]
         self.timestep = timestep.TimeStep(rows, self.eos, viscosity_rows)
         self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic,
-                                    compression_only=self.dfsph or not getattr(scene.eos, "tension", True))
+                                    compression_only=self.method.compression_only
+                                    or not getattr(scene.eos, "tension", True))
         # rates.acc: dv/dt; rates.d[k]: rate of the k-th integrated scalar (a Taichi
         # vector needs length >= 1, hence the max); rates.shift: a correction to the
         # velocity that moves the particles (XSPH), only if a term provides one.
@@ -200,24 +212,52 @@ class Solver:
             fields.update({name: kinds[kind] for name, kind in t.accumulators.items()})
         self.Rates = ti.types.struct(**fields)
         self.vec = ti.types.vector(dim, real)
-        self.field_sets = []  # the FieldSets allocated for this configuration (taisph.engine.fields)
-        # open boundaries (taisph.terms.open_boundary): their term, a bound copy, or None
-        self.open = next((t for t in self.terms if t.name == "open_boundaries"), None)
-        self.table_capacity = open_boundary.TABLE_CAPACITY if self.open is not None else 1
-        # moving and floating bodies (taisph.terms.rigid_bodies): their term, a bound copy, or None
-        self.bodies = next((t for t in self.terms if t.name == "rigid_bodies"), None)
-        self.body_capacity = rigid_bodies.CAPACITY if self.bodies is not None else 1
+
+    def _plug_in_subsystems(self):
+        """What the terms that are whole subsystems declare (:mod:`taisph.terms.base`): the
+        rows of the particles they impose, who creates particles, their device arrays and
+        their status slots (indices given to each bound term as ``slot`` and ``flag``)."""
+        self.imposed_rows = tuple(getattr(self.layout.q, t.imposed_row) for t in self.terms if t.imposed_row)
+        self.creators = tuple(t for t in self.terms if t.creates_particles)
+        self.device_arrays = {}  # name -> (owning term's name, DeviceArray)
+        for t in self.terms:
+            for name, spec in t.device_arrays.items():
+                if name in self.device_arrays:
+                    raise ValueError(f"device array {name!r} is declared twice (by {type(t).__name__})")
+                self.device_arrays[name] = (t.name, spec)
+        self.status_size, self._status_slots = st.slots(self.terms, "status_slots", st.STATUS_SIZE)
+        self.flags_size, self._flag_slots = st.slots(self.terms, "flag_slots", st.FLAGS_SIZE)
+        for t in self.terms:
+            for attr, where in (("slot", self._status_slots), ("flag", self._flag_slots)):
+                names = where.get(t.name, {})
+                setattr(t, attr, collections.namedtuple("Slots", list(names) or ["none"])(*names.values() or [-1]))
+
+    def status_slot(self, term: str, name: str) -> int:
+        """Index of term `term`'s status slot `name` (``Term.status_slots``)."""
+        return self._status_slots[term][name]
+
+    def ordered(self, stage: str) -> list:
+        """The bound terms with a launch of their own at `stage`, in the scene's order
+        except where a term declares it ``runs_after`` others (a stable topological order)."""
+        pending = [t for t in self.terms if t.launches(stage)]
+        names = {t.name for t in pending}
+        done, order = set(), []
+        while pending:
+            ready = next((t for t in pending if not (set(t.runs_after) & names) - done), None)
+            if ready is None:
+                raise ValueError(f"terms' runs_after form a cycle: {', '.join(t.name for t in pending)}")
+            pending.remove(ready)
+            done.add(ready.name)
+            order.append(ready)
+        return order
 
     def active_terms(self, scene) -> list:
-        """The scene's terms compiled into this solver's kernels (DFSPH: its non-pressure ones)."""
-        return dfsph_kept_terms(scene) if self.dfsph else list(scene.terms)
+        """The scene's terms compiled into this solver's kernels (``Method.terms``)."""
+        return self.method.terms(scene)
 
     def extra_fields(self, field, capacity, list_capacity):
-        """Fields a solver needs beyond :class:`Args` (DFSPH: its pair list and error sums), or None."""
-        if not self.dfsph:
-            return None
-        return dfsph.Extra(pairs=pairs.allocate(field, capacity, list_capacity, self.real),
-                           part=field(ti.f64, (dfsph.CHUNKS, 2)), result=field(ti.f64, (4,)))
+        """Fields the method needs beyond :class:`Args` (``Method.extra_fields``), or None."""
+        return self.method.extra_fields(self, field, capacity, list_capacity)
 
     # ------------------------------------------------------------------------
     def param_table(self, scene, grid_lo, grid_cell, controls, dt=None) -> np.ndarray:
@@ -230,9 +270,8 @@ class Solver:
                       grad_norm=self.sigma / h ** (dim + 2), support2=(self.kernel.support * h) ** 2)
         values.update(neighbours.parameter_values(scene, grid_lo, grid_cell))
         values.update(timestep.parameter_values(controls, dt))
-        values.update(guards.parameter_values(scene, controls))
-        if self.dfsph:
-            values.update(dfsph.parameter_values(scene, controls))
+        values.update(guards.parameter_values(scene, controls, self.method.max_speed(scene)))
+        values.update(self.method.parameter_values(scene, controls))
         for t in self.active_terms(scene):
             values.update(t.param_values(dim))
         table = np.zeros(self.n_params)
@@ -280,24 +319,15 @@ class Solver:
         return build
 
     def step_kernels(self, fields, serial_sort: bool) -> tuple:
-        """The kernels of one step on `fields` (a FieldSet), in order: sort, the terms'
-        ``after_sort`` launches (open boundaries' buffer values), the passes, force, the
-        terms' ``after_force`` launches (bodies' motion, open boundaries' bookkeeping)
-        (DFSPH: one callable, :class:`taisph.engine.dfsph.solver.Stepper`, which iterates its solves)."""
-        if self.dfsph:
-            return fields.kernel(("dfsph", serial_sort), lambda args: (dfsph.Stepper(self, fields, serial_sort),))
+        """The kernels of one step on `fields` (a FieldSet), in order (``Method.step_kernels``:
+        :mod:`taisph.engine.wcsph.method` says what they are for the weakly compressible
+        solver), each called as ``kernel(t_target)``."""
+        return self.method.step_kernels(self, fields, serial_sort)
 
-        def build(args):  # only on the first call for these fields: the step's hot path is the cache lookup
-            # terms with launches of their own (open boundaries, bodies); bodies move before the
-            # open boundaries' bookkeeping compacts the arrays
-            before = [t.after_sort(self) for t in self.terms if hasattr(t, "after_sort")]
-            after = [t.after_force(self) for t in sorted((t for t in self.terms if hasattr(t, "after_force")),
-                                                         key=lambda t: t.name != "rigid_bodies")]
-            bodies = [kernels.sort_body(self, serial_sort), *before,
-                      *[kernels.pass_body(self, p) for p in self.passes], kernels.force_body(self), *after]
-            return tuple(self.make_kernel(b)(args) for b in bodies)
-
-        return fields.kernel(("step", serial_sort), build)
+    def stepper(self, fields, serial_sort: bool):
+        """The host-side stepper of the step on `fields`, for a method that iterates on the
+        host (``Method.stepper``: its run statistics), else None."""
+        return self.method.stepper(self, fields, serial_sort)
 
     def pressure_kernel(self, fields, good: bool = False):
         """Fills the pressure row (and derived rows) of the current state, or of the

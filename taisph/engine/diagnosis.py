@@ -69,7 +69,7 @@ def collect(sim) -> dict:
     ids = records[:, 0]
     particles = []
     for pid, code in records:
-        k = int(np.searchsorted(ints[q.id], pid))  # ids sorted; past the scene's with open boundaries
+        k = int(np.searchsorted(ints[q.id], pid))  # ids sorted; past the scene's for created particles
         particles.append(dict(
             id=int(pid),
             problems=[name for bit, name in st.CODE_NAMES.items() if code & bit],
@@ -99,89 +99,84 @@ def collect(sim) -> dict:
         max_density_error=sim.controls.max_density_error,
         density_error=float(density_error),
         solver=getattr(sim.scene, "solver", "wcsph"),
-        # DFSPH: the solve that did not converge (taisph.engine.dfsph.solver.Stats.failure)
-        pressure_solve=dict(sim.pressure_solve.stats.failure) if sim.solver.dfsph else {},
+        # a method that iterates a solve on the host: the solve that did not converge (Method.stepper)
+        pressure_solve=dict(stepper.stats.failure) if (stepper := sim.pressure_solve) is not None else {},
     )
 
 
 def likely_causes(sim, report) -> list:
-    causes = []
-    failure = report.get("pressure_solve") or {}
-    if "pressure solve did not converge" in report["codes"] and failure:
-        c, f = sim.controls, failure
-        dt_max, courant, force, iterations = (f"{0.5 * f['dt']:.2g}", f"{0.5 * c.courant:.2g}",
-                                              f"{0.5 * c.force_factor:.2g}", 2 * f["iterations"])
-        causes.append(
-            f"the {f['solve']} solve reached {f['iterations']} iterations with a mean density error of "
-            f"{100 * f['error']:.3g} % (tolerance {100 * f['tolerance']:.3g} %, kept up to {f['bound']:g} times that) "
-            f"at dt = {f['dt']:.3g} s" + (f" (after {f['retries']} retries of the step, each with half the dt)"
-                                           if f.get("retries") else "")
-            + ": the step was too large for the solve; give a smaller maximum step "
-            f"(--dt-max {dt_max}), a smaller CFL number (--courant {courant}, now {c.courant:g}) or force factor "
-            f"(--force-factor {force}, now {c.force_factor:g}), or allow more iterations (--dfsph-max-iterations "
-            f"{iterations}, now {f['iterations']}); in Python Simulation(scene, dt_max={dt_max}, courant={courant}, "
-            f"force_factor={force}, dfsph_max_iterations={iterations})")
-    if "speed above max_speed" in report["codes"]:
-        fastest = max((float(np.linalg.norm(p["velocity"])) for p in report["particles"]), default=float("nan"))
-        limit = guards.max_speed(sim.scene, sim.controls)
-        if report.get("solver") == "dfsph":
-            causes.append(
-                f"a particle moved at {fastest:.3g} m/s, above max_speed = {limit:.3g} m/s (by default the sound speed "
-                "c0, 10 times the flow's speed in the cases): the pressure solve kicked it; give a smaller maximum step "
-                f"(--dt-max) or CFL number (--courant, now {sim.controls.courant:g}), or a tighter --dfsph-tolerance "
-                f"(now {sim.controls.dfsph_tolerance:g}); if the flow is really that fast, raise --max-speed "
-                "(in Python Simulation(scene, max_speed=...))")
-        else:
-            causes.append(f"a particle moved at {fastest:.3g} m/s, above max_speed = {limit:.3g} m/s: the flow blew up, "
-                          "or it is faster than the limit you set (--max-speed)")
-    if "time step collapsed" in report["codes"]:
-        causes.append(f"the adaptive time step fell to zero (last stable limit {report['dt_stable']:.3g} s): a "
-                      "particle's speed or acceleration diverged (the fastest are listed); give a smaller maximum step "
-                      "(--dt-max) or CFL number (--courant)")
-    if "neighbour list full" in report["codes"]:
-        causes.append("a particle had more neighbours than DFSPH's pair list holds (taisph.engine.dfsph.pairs): particles "
-                      "were crushed together, or the walls are sampled more finely than dx (DFSPH needs wall particles "
-                      "dx apart, e.g. dummy-wall layers)")
+    """The likely causes of what tripped, each with its remedy: the solver's method's
+    account of a code where it gives one (:meth:`taisph.engine.method.Method.causes`),
+    else the engine's, in the order below."""
+    method = sim.solver.method
+
+    def cause(code: str, default) -> list:
+        if code not in report["codes"]:
+            return []
+        own = method.causes(code, sim, report)
+        return own if own is not None else default(sim, report)
+
+    causes = (cause(st.CODE_NAMES[st.UNCONVERGED], _none) + cause(st.CODE_NAMES[st.SPEED], _speed)
+              + cause(st.CODE_NAMES[st.STALLED], _stalled) + cause(st.CODE_NAMES[st.CROWDED], _none)
+              + _fixed_dt(sim, report) + _integrator(sim, report)
+              + cause(st.CODE_NAMES[st.ESCAPED], _escaped) + cause(st.CODE_NAMES[st.DENSITY], _density))
+    if not causes:
+        causes = method.causes("diverged", sim, report)
+    return causes or ["the state diverged; try a smaller dt (or the adaptive step) and the pc integrator"]
+
+
+def _none(sim, report) -> list:
+    return []
+
+
+def _speed(sim, report) -> list:
+    fastest = max((float(np.linalg.norm(p["velocity"])) for p in report["particles"]), default=float("nan"))
+    limit = guards.max_speed(sim.scene, sim.controls, sim.solver.method.max_speed(sim.scene))
+    return [f"a particle moved at {fastest:.3g} m/s, above max_speed = {limit:.3g} m/s: the flow blew up, "
+            "or it is faster than the limit you set (--max-speed)"]
+
+
+def _stalled(sim, report) -> list:
+    return [f"the adaptive time step fell to zero (last stable limit {report['dt_stable']:.3g} s): a "
+            "particle's speed or acceleration diverged (the fastest are listed); give a smaller maximum step "
+            "(--dt-max) or CFL number (--courant)"]
+
+
+def _fixed_dt(sim, report) -> list:
     fixed = report["dt_fixed"]
-    if fixed is not None and fixed > report["dt_stable_min"]:
-        causes.append(
-            f"dt {fixed:.3g} s is above the stability limit {report['dt_stable_min']:.3g} s "
+    if fixed is None or fixed <= report["dt_stable_min"]:
+        return []
+    return [f"dt {fixed:.3g} s is above the stability limit {report['dt_stable_min']:.3g} s "
             f"(CFL {sim.controls.courant} h/(c+|v|) and force {sim.controls.force_factor} sqrt(h/|a|)): "
-            "use a smaller --dt, or none for the adaptive step"
-        )
-    if report["integrator"] in INTEGRATORS and report["integrator"] != "pc":  # the Euler family
-        causes.append(
-            f"the {report['integrator']} integrator updates density with the old velocity, which lets "
+            "use a smaller --dt, or none for the adaptive step"]
+
+
+def _integrator(sim, report) -> list:
+    if report["integrator"] not in INTEGRATORS or report["integrator"] == "pc":  # not the Euler family
+        return []
+    return [f"the {report['integrator']} integrator updates density with the old velocity, which lets "
             "the acoustic oscillation of weakly compressible SPH grow: use --integrator pc, or a much "
-            "smaller dt"
-        )
-    if "left the domain" in report["codes"]:
-        has_lj = any(t.name == "lennard_jones_wall" for t in sim.scene.terms)
-        causes.append(
-            "particles passed a wall or flew out of the domain: "
-            + ("the Lennard-Jones wall force is too weak for the impact speed (raise lj_strength) or dt too "
-               "large; " if has_lj else "")
+            "smaller dt"]
+
+
+def _escaped(sim, report) -> list:
+    advice = "".join(t.escape_advice + "; " for t in sim.scene.terms if t.escape_advice)  # (terms/base.py)
+    return ["particles passed a wall or flew out of the domain: "
+            + advice
             + "for an open domain, run with remove_escaped=True (--remove-escaped) to take them out and "
-              "count them"
-        )
-    if "density error" in report["codes"] and report.get("solver") == "dfsph":
-        causes.append(f"the density exceeds rho0 by more than {report['max_density_error']:.0%}: the pressure solve "
-                      "lets particles be crushed; lower --dfsph-tolerance or the maximum step (--dt-max)")
-    elif "density error" in report["codes"]:
-        removed = sim.state.read_flag(st.OUT_OF_RANGE_COUNT)
-        if removed:
-            causes.append(f"{removed} particles whose density left the range were already removed (remove_escaped), "
-                          f"the limit of max_out_of_range = {sim.controls.max_out_of_range:g} of the fluid "
-                          "particles: more than a few particles in flight are out of range, the flow itself is")
-        causes.append(
-            f"density departs from rho0 by more than {report['max_density_error']:.0%}: the sound speed c0 is "
-            "too low for the flow speed (keep c0 >= 10 |v|max), or particles are being crushed against a "
-            "wall; raise c0 or --max-density-error"
-        )
-    if not causes and report.get("solver") == "dfsph":
-        causes.append("the state diverged; try a smaller maximum step (--dt-max) or CFL number (--courant)")
-    elif not causes:
-        causes.append("the state diverged; try a smaller dt (or the adaptive step) and the pc integrator")
+              "count them"]
+
+
+def _density(sim, report) -> list:
+    causes = []
+    removed = sim.state.read_flag(st.OUT_OF_RANGE_COUNT)
+    if removed:
+        causes.append(f"{removed} particles whose density left the range were already removed (remove_escaped), "
+                      f"the limit of max_out_of_range = {sim.controls.max_out_of_range:g} of the fluid "
+                      "particles: more than a few particles in flight are out of range, the flow itself is")
+    causes.append(f"density departs from rho0 by more than {report['max_density_error']:.0%}: the sound speed c0 is "
+                  "too low for the flow speed (keep c0 >= 10 |v|max), or particles are being crushed against a "
+                  "wall; raise c0 or --max-density-error")
     return causes
 
 
@@ -225,7 +220,7 @@ def write_evidence(sim, report, folder, files=None) -> list:
         write_vtu(path, vec[q.position][fluid], _point_arrays(vec, sca, ints, q, fluid))
         files.append(path)
     vec, sca, ints = sim.state.to_numpy()
-    bad = np.isin(ints[q.id], report["ids"])  # by id (open boundaries: ids past the scene's)
+    bad = np.isin(ints[q.id], report["ids"])  # by id (created particles: ids past the scene's)
     if bad.any():
         path = folder / f"{sim.scene.name}_offending.vtu"
         write_vtu(path, np.nan_to_num(vec[q.position][bad], posinf=1e30, neginf=-1e30),

@@ -15,6 +15,7 @@ sizes compiles once per power of two), and loops run over the particles in use
 
 from __future__ import annotations
 
+import collections
 import math
 
 import taichi as ti
@@ -60,14 +61,14 @@ class FieldSet:
             cell_of=field(ti.i32, (capacity,)), cell_count=field(ti.i32, (cell_capacity,)),
             cell_start=field(ti.i32, (cell_capacity + 1,)), cell_fill=field(ti.i32, (cell_capacity,)),
             params=field(real, (solver.n_params,)), mat=field(real, (materials, len(solver.material_columns))),
-            sizes=field(ti.i32, (st.SIZES_SIZE,)), status=field(ti.f64, (st.STATUS_SIZE,)),
-            flags=field(ti.i32, (st.FLAGS_SIZE,)),
+            sizes=field(ti.i32, (st.SIZES_SIZE,)), status=field(ti.f64, (solver.status_size,)),
+            flags=field(ti.i32, (solver.flags_size,)),
             x_ref=field(real, (rows,), vector=True), nlist=field(ti.i32, (rows, list_capacity)),
             ncount=field(ti.i32, (rows,)),
             aux_int=field(ti.i32, (1, 1)), aux_real=field(real, (1, 1)),  # given as arguments to aux kernels
-            tables=field(real, (solver.table_capacity,)), bodies=field(ti.f64, (solver.body_capacity,)),
+            store=_store(solver, field, real),
         )
-        self.extra = solver.extra_fields(field, capacity, list_capacity)  # DFSPH's pair list, or None
+        self.extra = solver.extra_fields(field, capacity, list_capacity)  # the method's own (Method.extra_fields)
         self.controls = None  # the host-side settings of the simulation using these fields (State)
         self.tree = fb.finalize()
         self.kernels = {}  # compiled for these fields, by key
@@ -87,7 +88,7 @@ class FieldSet:
         """Memory of the fields (the capacity, not only the particles in use)."""
         total = 0
         extra = [f for part in (self.extra or ()) for f in (part if isinstance(part, tuple) else (part,))]
-        for f in (*self.args.state_fields(), *self.good, *extra):
+        for f in (*self.args.state_fields(), *self.args.store, *self.good, *extra):
             total += math.prod(f.shape) * (f.n if hasattr(f, "n") else 1) * (4 if f.dtype in (ti.i32, ti.f32) else 8)
         return total
 
@@ -97,6 +98,13 @@ class FieldSet:
         self.kernels.clear()
         if runtime.is_current(self.runtime):
             self.tree.destroy()
+
+
+def _store(solver, field, real):
+    """The terms' own device arrays (``Term.device_arrays``), a namedtuple by name."""
+    arrays = solver.device_arrays
+    Store = collections.namedtuple("Store", list(arrays))
+    return Store(*(field(real if spec.dtype == "real" else ti.f64, (spec.capacity,)) for _, spec in arrays.values()))
 
 
 _free: dict = {}  # solver -> released FieldSets

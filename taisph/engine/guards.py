@@ -5,11 +5,11 @@ Cheap (a comparison per quantity; atomics only when something is wrong):
 - a non-finite position, velocity, density or acceleration;
 - density deviating from the material's rho0 by more than ``max_density_error`` (a
   fraction; 0 disables; only for equations of state with a reference density);
-- a speed above ``max_speed`` (m/s, a control; 0 disables): by default the largest
-  material sound speed c0 under DFSPH, which the cases set to 10x the flow's speed
-  (:mod:`taisph.scene.water`), and off under WCSPH, whose density guard sees a blow-up
-  first (its pressure follows the density). An incompressible solve keeps the density
-  of a particle it kicks away, so a speed is what shows its failure (docs/dfsph.md);
+- a speed above ``max_speed`` (m/s, a control; 0 disables): by default the solver's
+  method's limit (:meth:`taisph.engine.method.Method.max_speed`): off for the weakly
+  compressible solver, whose density guard sees a blow-up first (its pressure follows
+  the density); an incompressible solve keeps the density of a particle it kicks away,
+  so a speed is what shows its failure, and its limit is on;
 - a position outside the guard box: the scene's domain grown by one kernel support,
   except along periodic axes and beyond the faces the scene leaves open
   (``Scene.open_faces``, e.g. the open top of a tank: water may fly up and fall back).
@@ -57,18 +57,16 @@ def removes_escaped(scene, controls) -> bool:
     return scene.remove_escaped if controls.remove_escaped is None else bool(controls.remove_escaped)
 
 
-def max_speed(scene, controls) -> float:
-    """The speed guard's limit (m/s; 0: none): the control if given, else under DFSPH the
-    largest material c0 (10x the flow's speed in the cases), else none."""
+def max_speed(scene, controls, default: float = 0.0) -> float:
+    """The speed guard's limit (m/s; 0: none): the control if given, else `default`, the
+    solver's method's (:meth:`taisph.engine.method.Method.max_speed`)."""
     if controls.max_speed is not None:
         return float(controls.max_speed)
-    if getattr(scene, "solver", "wcsph") == "dfsph":
-        return max(float(getattr(m, "c0", 0.0) or 0.0) for m in scene.materials)
-    return 0.0
+    return default
 
 
-def parameter_values(scene, controls) -> dict:
-    """Values of :data:`PARAMS` for `scene` and `controls`."""
+def parameter_values(scene, controls, default_speed: float = 0.0) -> dict:
+    """Values of :data:`PARAMS` for `scene` and `controls` (`default_speed`: :func:`max_speed`'s)."""
     lo, hi = scene.domain
     margin = scene.support_radius
     guard_lo, guard_hi = lo - margin, hi + margin
@@ -84,7 +82,7 @@ def parameter_values(scene, controls) -> dict:
         guard_lo=guard_lo,
         guard_hi=guard_hi,
         max_out_of_range=np.floor(controls.max_out_of_range * scene.n_fluid),
-        max_speed2=min(max_speed(scene, controls) ** 2, 1e30),
+        max_speed2=min(max_speed(scene, controls, default_speed) ** 2, 1e30),
     )
 
 
@@ -109,7 +107,7 @@ class Guards:
         self.eos = eos
         self.periodic = tuple(periodic)
         self.has_rho0 = hasattr(eos.m, "rho0")  # compile time: is there a reference density?
-        # DFSPH's summation density is short of rho0 at a free surface by design: only compression counts
+        # only compression counts (a method's summation density short of rho0 at a free surface by design)
         self.compression_only = compression_only
 
     @ti.func

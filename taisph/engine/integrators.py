@@ -13,12 +13,25 @@ own prescribed velocity (zero for fixed walls).
 
 If a term provides ``rates.shift`` (XSPH), positions move with ``v + shift`` instead
 of ``v``: the shift changes where particles go, not their momentum.
+
+A body that moves as one (a term's solid, e.g. a floating box) advances by its fluid's
+integrator's own rule, given by each class's ``rigid_*`` methods (f64, after the force
+pass, once per body): ``rigid_velocity`` for the velocity (2D: the angular velocity too; 3D: the angular
+momentum), ``rigid_displacement`` for the position (2D: the angle too), and for the
+orientation ``rigid_turn`` (where it is advanced from: :data:`TURN_START`,
+:data:`TURN_END` or :data:`TURN_PREDICTED`) and ``rigid_turn_rate`` (3D: the rate it turns
+by over dt). The same rule for fluid and bodies keeps their total momentum to round-off.
 """
 
 
 import taichi as ti
 
 from ..scene.names import INTEGRATORS as NAMES  # the one list of the names (checked below)
+
+# where a solid body's orientation is advanced from (an integrator's ``rigid_turn``)
+TURN_START = "start"  # after the force pass, from the step's start rate
+TURN_END = "end"  # after the force pass, from the step's end rate
+TURN_PREDICTED = "predicted"  # by the predictor, before the torque is summed (its lever arms at the step's end)
 
 
 @ti.data_oriented
@@ -30,6 +43,7 @@ class Euler:
 
     name = "euler"
     order = 1
+    rigid_turn = TURN_START
 
     def __init__(self, integrated, has_shift=False):
         self.integrated = tuple(integrated)  # ((quantity, rate), ...)
@@ -74,6 +88,28 @@ class Euler:
         for k in ti.static(self.rows):
             s.Cs[k[0], i] = s.Ss[k[0], i] + dt * rates.d[k[1]]
 
+    # --- bodies that move as one (see the module docstring) ------------------------------
+    @ti.func
+    def rigid_velocity(self, v0, a0, a, dt):
+        """A solid body's velocity at the step's end, v1 = v0 + dt a, from its velocity v0
+        and its acceleration a of this step (a0: the last step's, unused here). 2D: the
+        angular velocity from the angular acceleration; 3D: the angular momentum from the
+        torque."""
+        return v0 + dt * a
+
+    @ti.func
+    def rigid_displacement(self, v0, v1, a0, dt):
+        """A solid body's displacement over the step, dx = dt v0 (v0, v1: its velocity at
+        the step's start and end; a0: the last step's acceleration). 2D: the angle's
+        change from the angular velocity."""
+        return dt * v0
+
+    @ti.func
+    def rigid_turn_rate(self, w0, w1, alpha0, dt):
+        """The angular velocity a 3D body's orientation turns by over dt: w0, the step's
+        start rate (w1: its end rate; alpha0: the last step's angular acceleration)."""
+        return w0
+
 
 @ti.data_oriented
 class EulerMid(Euler):
@@ -84,6 +120,7 @@ class EulerMid(Euler):
     """
 
     name = "eulermid"
+    rigid_turn = TURN_END
 
     @ti.func
     def update(self, s: ti.template(), i, rates: ti.template(), dt):
@@ -93,6 +130,18 @@ class EulerMid(Euler):
         s.Cv[q.velocity, i] = v
         for k in ti.static(self.rows):
             s.Cs[k[0], i] = s.Ss[k[0], i] + dt * rates.d[k[1]]
+
+    @ti.func
+    def rigid_displacement(self, v0, v1, a0, dt):
+        """dx = dt v1, with the velocity already updated (2D: the angle from the updated
+        angular velocity)."""
+        return dt * v1
+
+    @ti.func
+    def rigid_turn_rate(self, w0, w1, alpha0, dt):
+        """w1: a 3D body turns by its updated rate (omega from the updated angular momentum
+        in the orientation of the step's start)."""
+        return w1
 
 
 @ti.data_oriented
@@ -116,6 +165,7 @@ class PredictorCorrector(Euler):
 
     name = "pc"
     order = 2
+    rigid_turn = TURN_PREDICTED
 
     def quantities(self):
         vectors = ("acc_prev", "shift_prev") if self.has_shift else ("acc_prev",)
@@ -160,6 +210,24 @@ class PredictorCorrector(Euler):
             new_rate = rates.d[self.rows[k][1]]
             s.Cs[row, i] = s.Ss[row, i] + half * (new_rate - s.Ss[self.prev_rows[k], i])
             s.Cs[self.prev_rows[k], i] = new_rate
+
+    @ti.func
+    def rigid_velocity(self, v0, a0, a, dt):
+        """The trapezoid v1 = v0 + dt/2 (a0 + a), a0 the last step's acceleration (2D:
+        angular velocity; 3D: angular momentum from the last and this step's torques)."""
+        return v0 + 0.5 * dt * (a0 + a)
+
+    @ti.func
+    def rigid_displacement(self, v0, v1, a0, dt):
+        """Velocity Verlet's dx = dt v0 + dt^2/2 a0 (the predictor's x^{n+1}). 2D: the
+        angle's change, which the predictor makes before the torque is summed."""
+        return dt * v0 + 0.5 * dt * dt * a0
+
+    @ti.func
+    def rigid_turn_rate(self, w0, w1, alpha0, dt):
+        """w0 + dt/2 alpha0: the step's mean rate by the last step's angular acceleration,
+        which the predictor turns a 3D body by before the torque is summed."""
+        return w0 + 0.5 * dt * alpha0
 
 
 INTEGRATORS = {"euler": Euler, "eulermid": EulerMid, "eulermom": EulerMid, "pc": PredictorCorrector}

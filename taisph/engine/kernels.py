@@ -247,7 +247,7 @@ def force_body(solver):
     Rates = solver.Rates
     p_support2 = solver.param_rows["support2"]
     local_parameters = _local_parameters(solver)
-    open_zone = getattr(q, "open_zone", -1)  # compile time: open boundaries (taisph.terms.open_boundary)
+    imposed = solver.imposed_rows  # compile time: rows of particles a term imposes (Term.imposed_row)
 
     @ti.func
     def body(s_mem: ti.template(), t_target):
@@ -256,9 +256,10 @@ def force_body(solver):
         for i in range(n):
             s = ti.static(s_mem._replace(params=local_parameters(s_mem)))
             copy(s.S, i, s.C, i)  # the integrator then writes what it advances
-            buffer = False  # an open boundary's buffer particle: moves with its imposed velocity
-            if ti.static(open_zone >= 0):
-                buffer = s.Si[open_zone, i] > 0
+            buffer = False  # a particle a term imposes (Term.imposed_row): moves with its own velocity
+            for row in ti.static(imposed):
+                if s.Si[row, i] > 0:
+                    buffer = True
             if buffer:
                 integ.advance_wall(s, i, dt)
             elif s.Si[q.kind, i] == FLUID:

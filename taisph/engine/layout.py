@@ -47,7 +47,7 @@ class Layout:
         self.vectors = _unique(BASE_VECTORS + tuple(vectors))
         self.scalars = _unique(BASE_SCALARS + tuple(scalars))
         self.integers = _unique(BASE_INTEGERS + tuple(integers))
-        # the equation of state's output; DFSPH's pressure comes from its solve and is kept
+        # the equation of state's output (a method whose pressure comes from its solve keeps it)
         self.derived = frozenset(derived) | ({"pressure"} if pressure_derived else set())
         # rows a step carries from one buffer to the other (all but the derived ones)
         self.carried = tuple(tuple(k for k, name in enumerate(group) if name not in self.derived)

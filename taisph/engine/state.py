@@ -16,7 +16,6 @@ import taichi as ti
 
 from . import fields as fieldpool
 from . import neighbours, runtime
-from .dfsph import pairs
 from . import status as st
 from .assembly import Args, Buffers
 from .layout import FLUID, REMOVED
@@ -38,11 +37,11 @@ class State:
     def __init__(self, scene, solver, rt: runtime.Runtime, grid=None):
         self.solver, self.runtime = solver, rt
         self._n = scene.n
-        # open boundaries create particles: room for this many more than are in use
-        self.reserve = solver.open.reserve(scene) if solver.open is not None else 0
+        # terms that create particles (Term.creates_particles): room for this many more than are in use
+        self.reserve = sum(scene.terms_by_name[t.name].reserve(scene) for t in solver.creators)
         self.n_materials = len(scene.materials)
-        self.list_capacity = (neighbours.list_capacity(scene) if solver.lists
-                              else pairs.capacity(scene) if solver.dfsph else 1)
+        # entries per particle: of the neighbour lists, else of the method's own list (Method.list_capacity)
+        self.list_capacity = neighbours.list_capacity(scene) if solver.lists else solver.method.list_capacity(scene)
         if grid is None:
             grid = neighbours.layout_grid(scene.domain, scene.periodic, neighbours.list_reach(scene), scene.position)
         self.grid = neighbours.GridLayout(*grid)
@@ -60,8 +59,8 @@ class State:
 
     @property
     def n(self) -> int:
-        """Particles in use (with open boundaries the device changes it every step)."""
-        if self.solver.open is not None and getattr(self, "fields", None) is not None:
+        """Particles in use (where a term creates particles the device changes it every step)."""
+        if self.solver.creators and getattr(self, "fields", None) is not None:
             self._n = int(self.sizes[st.N_PARTICLES])
         return self._n
 
@@ -105,10 +104,9 @@ class State:
         ints[L.q.id] = np.arange(n)
         ints[L.q.material] = scene.material
         ints[L.q.kind] = scene.kind
-        if self.solver.dfsph:  # the first solve starts from the scene's pressure (its initial density)
-            from .dfsph import solver as dfsph
-
-            sca[L.q.kappa] = dfsph.initial_kappa(scene)
+        arrays = {"vector": vec, "scalar": sca, "integer": ints}
+        for name, values in self.solver.method.initial_values(scene).items():  # the method's rows (Method)
+            arrays[L.kind_of(name)][getattr(L.q, name)] = values
         for name, values in scene.quantities.items():
             try:
                 kind = L.kind_of(name)
@@ -117,17 +115,26 @@ class State:
                     f"scene {scene.name!r} gives initial values of {name!r}, but none of its terms "
                     f"stores it (stored: {', '.join(L.vectors + L.scalars)})"
                 ) from None
-            {"vector": vec, "scalar": sca, "integer": ints}[kind][getattr(L.q, name)] = values
+            arrays[kind][getattr(L.q, name)] = values
         self.set_state(vec, sca, ints)
-        if self.solver.bodies is not None:  # the bodies' initial state and motion tables
-            self.write_bodies(scene.terms_by_name["rigid_bodies"].field_values(scene.dim))
+        self.write_arrays(scene, carried=True)  # the terms' own state (bodies' poses and motion tables)
 
-    def write_bodies(self, values: np.ndarray):
-        """The ``bodies`` field (:mod:`taisph.terms.rigid_bodies`), padded to its capacity."""
-        self.fields.args.bodies.from_numpy(np.pad(values, (0, self.solver.body_capacity - len(values))))
+    def write_arrays(self, scene, carried: bool):
+        """The terms' device arrays that are state (`carried`) or parameter tables, from
+        the scene's terms (``Term.array_values``)."""
+        for name, (owner, spec) in self.solver.device_arrays.items():
+            if spec.carried == carried:
+                self.write_array(name, scene.terms_by_name[owner].array_values(name))
 
-    def read_bodies(self) -> np.ndarray:
-        return self.fields.args.bodies.to_numpy()
+    def write_array(self, name: str, values: np.ndarray):
+        """The device array `name` of a term (``Term.device_arrays``), padded to its capacity."""
+        field = getattr(self.fields.args.store, name)
+        values = np.pad(values, (0, field.shape[0] - len(values)))
+        field.from_numpy(values.astype(np.float64 if field.dtype == ti.f64 else self.runtime.numpy_real))
+
+    def read_array(self, name: str) -> np.ndarray:
+        """The device array `name` of a term, as numpy."""
+        return getattr(self.fields.args.store, name).to_numpy()
 
     def set_state(self, vec, sca, ints, buffers=None):
         """Write (vectors, scalars, integers), in memory order, to C (or `buffers`)."""
@@ -180,23 +187,24 @@ class State:
         self.restore(kept)
 
     def ensure_room(self) -> bool:
-        """With open boundaries: move to larger fields if fewer than ``reserve`` free
+        """Where a term creates particles: move to larger fields if fewer than ``reserve`` free
         particle slots are left (before a batch of steps). True if it moved (the
         parameters must then be uploaded again)."""
         n = self.n
-        if self.solver.open is None or n + self.reserve <= self.fields.capacity:
+        if not self.solver.creators or n + self.reserve <= self.fields.capacity:
             return False
         self._move(2 * (n + self.reserve), self.grid.n_cells)
         return True
 
     def check_room(self, time: float):
-        """Raise if a zone could not create a particle for lack of room (the reserve was short)."""
-        if self.solver.open is not None and self.read_flag(st.NO_ROOM):
+        """Raise if a term could not create a particle for lack of room (the reserve was short)."""
+        if self.solver.creators and self.read_flag(st.NO_ROOM):
+            names = ", ".join(t.name for t in self.solver.creators)
             raise RuntimeError(
-                f"open boundaries: {self.read_flag(st.NO_ROOM)} particles could not be created at t = {time:.6g} s: "
+                f"{names}: {self.read_flag(st.NO_ROOM)} particles could not be created at t = {time:.6g} s: "
                 f"the fields hold {self.fields.capacity} particles, {self.n} were in use and {self.reserve} were "
-                "kept free before each batch of steps, which the batch exceeded (reserve: "
-                "taisph.terms.open_boundary.OpenBoundaries.reserve); please report it with the scene")
+                "kept free before each batch of steps, which the batch exceeded (reserve: the term's reserve()); "
+                "please report it with the scene")
 
     def upload_parameters(self, scene, controls, dt=None):
         table = self.solver.param_table(scene, self.grid.lo, self.grid.cell, controls, dt)
@@ -204,17 +212,18 @@ class State:
         self.params.from_numpy(table.astype(self.runtime.numpy_real))
         mat = self.solver.material_table(scene).astype(self.runtime.numpy_real)
         self.mat.from_numpy(np.pad(mat, ((0, self.fields.materials - len(mat)), (0, 0))))
-        if self.solver.open is not None:
-            terms = scene.terms_by_name["open_boundaries"].table_values().astype(self.runtime.numpy_real)
-            self.fields.args.tables.from_numpy(np.pad(terms, (0, self.solver.table_capacity - len(terms))))
+        self.write_arrays(scene, carried=False)  # the terms' tables of parameters
 
     def reset_status(self):
-        status = np.zeros(st.STATUS_SIZE)
+        status = np.zeros(self.solver.status_size)
         status[st.DT_MIN] = status[st.DT_STABLE_MIN] = np.inf
         status[st.FORCE_REBUILD] = 1.0
+        for t in self.solver.terms:
+            for name, value in t.initial_status().items():
+                status[t.slot._asdict()[name]] = value
         self.status.from_numpy(status)
-        flags = np.zeros(st.FLAGS_SIZE, np.int32)
-        flags[st.NEXT_ID] = self.n  # the id of the first particle an open boundary creates
+        flags = np.zeros(self.solver.flags_size, np.int32)
+        flags[st.NEXT_ID] = self.n  # the id of the first particle a term creates
         self.flags.from_numpy(flags)
 
     # --- status ------------------------------------------------------------------------
@@ -257,13 +266,13 @@ class State:
         or a write from the host: reading the whole state back for them is slow at 1M
         particles (docs/performance.md)."""
         key = (self._host_writes, self.read_flag(st.REMOVED_COUNT))
-        if key != self._masses_key or self.solver.open is not None:  # open: mass comes and goes
+        if key != self._masses_key or self.solver.creators:  # created particles: mass comes and goes
             L, n = self.solver.layout, self.n
             mass = self.C.s.to_numpy()[L.q.mass, :n].astype(float)
             ints = self.C.i.to_numpy()[:, :n]
             fluid = ints[L.q.kind] == FLUID
-            if self.solver.open is not None:
-                fluid &= ints[L.q.open_zone] == 0  # not the buffers
+            for row in self.solver.imposed_rows:  # not the particles a term imposes (buffers)
+                fluid &= ints[row] == 0
             self._masses = (float(mass[fluid].sum()), float(mass[ints[L.q.kind] == REMOVED].sum()))
             self._masses_key = key
         return self._masses
@@ -278,14 +287,13 @@ class State:
     def bytes_per_particle(self) -> int:
         """Memory of the particle state per particle: the stored rows, three times
         (current and cell-sorted buffers, the saved good state), the cell index, and
-        with neighbour lists their reference position, count and entries (DFSPH: its
-        pair list, :mod:`.dfsph.pairs`)."""
-        L, dim, lists = self.solver.layout, self.solver.dim, 0
+        with neighbour lists their reference position, count and entries (or the method's
+        own list, ``Method.list_bytes``)."""
+        L, dim = self.solver.layout, self.solver.dim
         real = 4 if self.runtime.precision == "f32" else 8
         row = dim * real * len(L.vectors) + real * len(L.scalars) + 4 * len(L.integers)
-        if self.solver.dfsph:
-            lists = pairs.bytes_per_particle(self.list_capacity, real)
-        elif self.solver.lists:
+        lists = self.solver.method.list_bytes(self.list_capacity, real)
+        if not lists and self.solver.lists:
             lists = dim * real + 4 + 4 * self.list_capacity
         return 3 * row + 4 + lists
 
@@ -293,7 +301,7 @@ class State:
     def keep_good(self, time: float, steps: int):
         """Copy C aside (device to device) before a batch of steps."""
         self.solver.copy_kernel(self.fields)(0.0)
-        self.good_n = self.n  # (open boundaries change the count)
+        self.good_n = self.n  # (terms that create particles change the count)
         self.has_good = True
         self.good_time, self.good_steps = time, steps
         self.good_dt_stable = self.read(st.DT_STABLE_MIN)
@@ -310,14 +318,15 @@ class State:
                       x_ref=self.x_ref.to_numpy()[:rows], nlist=self.nlist.to_numpy()[:rows, : self.list_capacity],
                       ncount=self.ncount.to_numpy()[:rows],
                       cell_start=self.cell_start.to_numpy()[: self.grid.n_cells + 1])
-        if self.solver.bodies is not None:
-            arrays["bodies"] = self.read_bodies()
+        for name, (_, spec) in self.solver.device_arrays.items():
+            if spec.carried:  # the terms' own state (bodies)
+                arrays[name] = self.read_array(name)
         return arrays
 
     def restore(self, arrays):
         """The inverse of :meth:`arrays` (the grid already set up)."""
         vec, ints, q = arrays["C0"], arrays["C2"], self.solver.layout.q
-        if vec.shape[1] + self.reserve > self.fields.capacity:  # an open boundary's run had grown
+        if vec.shape[1] + self.reserve > self.fields.capacity:  # created particles had grown the run
             old = self.fields
             self.fields = fieldpool.acquire(self.solver, self.runtime, vec.shape[1] + self.reserve,
                                             self.grid.n_cells, self.list_capacity, self.n_materials)
@@ -329,11 +338,9 @@ class State:
             vec[q.velocity][removed] = 0.0
         self.set_state(vec, arrays["C1"], ints)
         self._write_sizes(vec.shape[1])
-        status = np.zeros(st.STATUS_SIZE)  # checkpoints before MASS_IN had two less
-        status[: len(arrays["status"])] = arrays["status"]
-        self.status.from_numpy(status)
-        flags = np.zeros(st.FLAGS_SIZE, np.int32)  # checkpoints before OUT_OF_RANGE_COUNT had one less
-        flags[: len(arrays["flags"])] = arrays["flags"]
+        self.status.from_numpy(_fitted(arrays["status"], self.solver.status_size, np.float64))
+        # (older checkpoints' arrays had fixed sizes: fewer flags, or status slots the scene has no use for)
+        flags = _fitted(arrays["flags"], self.solver.flags_size, np.int32)
         if len(arrays["flags"]) <= st.NEXT_ID:
             flags[st.NEXT_ID] = vec.shape[1]
         self.flags.from_numpy(flags)
@@ -346,8 +353,9 @@ class State:
         self.nlist.from_numpy(np.pad(nlist, ((0, shape[0] - nlist.shape[0]), (0, shape[1] - nlist.shape[1]))))
         start = arrays["cell_start"]
         self.cell_start.from_numpy(np.pad(start, (0, self.cell_start.shape[0] - len(start))))
-        if self.solver.bodies is not None and "bodies" in arrays:
-            self.write_bodies(arrays["bodies"])
+        for name, (_, spec) in self.solver.device_arrays.items():
+            if spec.carried and name in arrays:
+                self.write_array(name, arrays[name])
 
     # --- auxiliary kernels (neighbour pairs for tests, probes) ------------------------
     def run_auxiliary(self, build, time: float, aux_int=(1, 1), aux_real=(1, 1)):
@@ -392,3 +400,11 @@ class State:
         if getattr(self, "fields", None) is not None and runtime.is_current(self.runtime):
             fieldpool.release(self.fields)
         self.fields = None
+
+
+def _fitted(values: np.ndarray, size: int, dtype) -> np.ndarray:
+    """`values` cut or padded with zeros to `size`."""
+    out = np.zeros(size, dtype)
+    kept = min(size, len(values))
+    out[:kept] = values[:kept]
+    return out

@@ -30,15 +30,7 @@ REBUILDS = 14
 # step longer than needed (it cannot know the adaptive dt ahead), and the launch must do
 # nothing at all, or the last state would depend on how the batches fell (timing)
 IDLE = 15
-# open boundaries (taisph.terms.open_boundary): mass that entered the fluid from a zone's
-# buffer, and mass that left it into one, since the start
-MASS_IN = 16
-MASS_OUT = 17
-# open boundaries without viscosity: each zone's sum of its buffer particles' fitted normal
-# speeds and their count, this step (zone k at ZONE_SPEEDS + 2 k, up to MAX_ZONES zones)
-ZONE_SPEEDS = 18
-MAX_ZONES = 16
-STATUS_SIZE = ZONE_SPEEDS + 2 * MAX_ZONES
+STATUS_SIZE = 16  # the engine's own; a configuration's terms get theirs after (slots())
 
 # ``flags`` (i32): guard failures (taisph.engine.guards) and removed particles
 CODES = 0  # OR of the failure bits below
@@ -48,15 +40,16 @@ RECORDS = 3  # (id, code) pairs of the first MAX_RECORDED offending particles fr
 MAX_RECORDED = 16
 # of those, removed because their density left the range (taisph.engine.guards)
 OUT_OF_RANGE_COUNT = RECORDS + 2 * MAX_RECORDED
-# open boundaries: the id the next particle created gets, and how many particles a zone
-# could not create for lack of room in the fields (the host grows them ahead of need)
+# for terms that create particles (Term.creates_particles): the id the next particle
+# created gets, and how many could not be created for lack of room in the fields (the
+# host grows them ahead of need)
 NEXT_ID = OUT_OF_RANGE_COUNT + 1
 NO_ROOM = NEXT_ID + 1
-FLAGS_SIZE = NO_ROOM + 1
+FLAGS_SIZE = NO_ROOM + 1  # the engine's own; the terms' follow (slots())
 
 NONFINITE, DENSITY, ESCAPED = 1, 2, 4
-# DFSPH (taisph.engine.dfsph): a pressure solve reached its maximum iterations unconverged;
-# a particle had more neighbours than the pair list holds
+# an implicit method's pressure solve reached its maximum iterations unconverged; a particle
+# had more neighbours than a method's per-step pair list holds (taisph.engine.method)
 UNCONVERGED, CROWDED = 8, 16
 # a particle faster than the max_speed control (taisph.engine.guards); the clock stood still
 # (set by the host: the step collapsed to zero, taisph.run.simulation)
@@ -70,5 +63,17 @@ CODE_NAMES = {NONFINITE: "non-finite state", DENSITY: "density error", ESCAPED: 
 GRID_SHAPE = 0  # cells along axis d at GRID_SHAPE + d (1 beyond the dimension)
 N_CELLS = 3  # cells of the grid
 N_PARTICLES = 4  # particles in use (the fields have room for more)
-LIST_CAPACITY = 5  # entries per particle's neighbour list (or DFSPH's pair list)
+LIST_CAPACITY = 5  # entries per particle's neighbour list (or the method's own list: Method.list_capacity)
 SIZES_SIZE = 6
+
+
+def slots(terms, declared: str, start: int):
+    """Slots of the terms' own in a status array, after the engine's `start` ones:
+    ``(size, {term name: {slot name: index}})`` for each term's ``declared`` attribute
+    (``status_slots`` or ``flag_slots``: ``{name: count}``), in the terms' order."""
+    index, where = start, {}
+    for term in terms:
+        for name, count in getattr(term, declared).items():
+            where.setdefault(term.name, {})[name] = index
+            index += count
+    return index, where

@@ -24,27 +24,32 @@ way the step is shortened so that it ends exactly on the next output time.
 """
 
 import collections
+import dataclasses
+import inspect
 import math
 from dataclasses import dataclass
 
 import numpy as np
 import taichi as ti
 
+from . import solvers
 from . import status as st
 from ..scene import parameters
 from .layout import VARIABLE_H
+# the command line's help quotes them
+from .dfsph.method import DFSPH_COURANT, DFSPH_FORCE_FACTOR  # noqa: F401
 
 TINY = 1e-30  # a limit whose maximum is zero (no flow, no force, no viscosity) imposes none (f32-safe)
 
 
 @dataclass
-class Controls:
+class EngineControls:
     """Time-step and guard settings (runtime values: changing one recompiles nothing).
 
     dt                 fixed time step (s); None: adaptive (the default)
     dt_max             cap on the adaptive step (s)
-    courant            C_cfl in dt = C_cfl h / max(c + |v|)             (0.25, or the scene's)
-    force_factor       C_force in dt = C_force sqrt(h / max |a|)         (0.25)
+    courant            C_cfl in dt = C_cfl h / max(c + |v|)             (0.25, or the scene's, or the solver's)
+    force_factor       C_force in dt = C_force sqrt(h / max |a|)         (0.25, or the solver's)
     viscous_factor     C_visc in dt = C_visc h^2 / nu                     (0.125)
     max_density_error  stop when |rho/rho0 - 1| exceeds this (0 disables; taisph.engine.guards)
     remove_escaped     remove (and count) particles that leave the domain instead of stopping,
@@ -53,19 +58,8 @@ class Controls:
     max_out_of_range   with remove_escaped: the fraction of the fluid particles that may be
                        removed for their density before the next one stops the run (0.001)
     max_speed          stop when a fluid particle moves faster than this (m/s; 0 disables); None: the
-                       largest material c0 under DFSPH (10x the flow's speed in the cases), off under
-                       WCSPH (taisph.engine.guards)
+                       solver's default (taisph.engine.guards.max_speed)
     deterministic      serial (stable) cell sort at every size: bit-reproducible runs
-    dfsph_tolerance    DFSPH: mean density error a constant-density solve stops at (fraction of rho0)
-    dfsph_divergence_tolerance   DFSPH: mean density change per step a divergence solve stops at
-    dfsph_min_iterations, dfsph_max_iterations   DFSPH: iterations of the constant-density solve
-                       at least (the divergence solve: 1) and of either solve at most
-    dfsph_error_bound  DFSPH: a solve that reaches the maximum iterations above its tolerance but
-                       within this many times it is kept (and counted: Stats.above_tolerance); beyond,
-                       the step is retried with half the dt, up to dfsph_retries times, before the run
-                       stops with the diagnosis (taisph.engine.dfsph, taisph.engine.diagnosis)
-    dfsph_retries      DFSPH: how many times a step whose solve ended beyond the bound is retried, each
-                       time with half the last dt
     """
 
     dt: float | None = None
@@ -78,17 +72,21 @@ class Controls:
     max_out_of_range: float = 0.001
     max_speed: float | None = None
     deterministic: bool = False
-    # DFSPH's stopping rule (taisph.engine.dfsph). 0.02 %, not the 0.1 % of Bender & Koschier:
-    # the dam break's front error fell from 0.218 to 0.189 (dx = 0.02) for 23 % more wall time;
-    # the first steps from rest then take up to ~190 iterations (dx = 0.01), hence 300
-    dfsph_tolerance: float = 0.0002
-    dfsph_divergence_tolerance: float = 0.001
-    dfsph_min_iterations: int = 2
-    dfsph_max_iterations: int = 300
-    # 10x: the dam break at dx = 0.01 reached 0.0201 % after 300 iterations in one early step
-    # (issue 25); an error within 10x the tolerance is still a 0.2 % compression
-    dfsph_error_bound: float = 10.0
-    dfsph_retries: int = 3
+
+
+def _composed_controls() -> type:
+    """:class:`EngineControls`' fields, then those of each solver's method's controls
+    (``Method.Controls``), in the registry's order: one dataclass, :class:`Controls`."""
+    specs, docs = [], [inspect.cleandoc(EngineControls.__doc__)]
+    for cls in [EngineControls, *(m.Controls for m in solvers.METHODS.values() if m.Controls is not None)]:
+        specs += [(f.name, f.type, dataclasses.field(default=f.default)) for f in dataclasses.fields(cls)]
+        if cls is not EngineControls:
+            docs.append(inspect.cleandoc(cls.__doc__))
+    return dataclasses.make_dataclass("Controls", specs, namespace={"__module__": __name__,
+                                                                    "__doc__": "\n\n".join(docs)})
+
+
+Controls = _composed_controls()
 
 
 # The controls a user sets by name (Simulation(scene, NAME=...), --NAME on the command line with
@@ -96,42 +94,19 @@ class Controls:
 SETTABLE = {
     "dt_max": parameters.positive,
     "force_factor": parameters.courant_number,  # (0, 1], as the CFL number
-    "dfsph_tolerance": parameters.Number(0, 1, low_open=True),
-    "dfsph_divergence_tolerance": parameters.Number(0, 1, low_open=True),
-    "dfsph_min_iterations": parameters.integer(at_least=1, at_most=100_000),
-    "dfsph_max_iterations": parameters.integer(at_least=1, at_most=100_000),
-    "dfsph_error_bound": parameters.at_least(1),
-    "dfsph_retries": parameters.integer(at_least=0, at_most=20),
+    **{name: rng for m in solvers.METHODS.values() for name, rng in m.ranges.items()},  # the solvers' own
     "max_speed": parameters.Number(0, 1e8),  # m/s; 0: off
 }
 
 
-# DFSPH's CFL number (dt = C h / max |v|): its step follows the flow speed, not the sound
-# speed (the scene's Courant number is WCSPH's). 0.5 h = 0.65 dx (Bender & Koschier use 0.4
-# particle diameters, 0.3 h). Measured on the dam break to 3 s (python -m tools.studies.dfsph_runs
-# --courant C, docs/dfsph.md "Time step"): at dx = 0.04, 0.02, 0.01 the largest fluid speed of any
-# step 11.0, 12.9, 13.1 m/s with 0.5 (12.0, 12.6, 14.2 with 0.3), mean compression <= 0.023 % in
-# every frame, no retry, no particle removed; the front 0.190 against 0.187 (dx = 0.02); 1.6x less
-# wall time. (Before the walls' mirror share entered the density rate, 0.4 crushed a particle at
-# the impact.)
-DFSPH_COURANT = 0.5
-# and its force factor (dt <= C sqrt(h / |g|): DFSPH tracks the body forces only, the
-# viscous terms have their viscous limit): the pressure solve converges within 100
-# iterations from rest at dx = 0.0125 with 0.1, not with the weakly compressible 0.25
-DFSPH_FORCE_FACTOR = 0.1
-
-
 def controls_for(scene, **given) -> Controls:
-    """The controls of a simulation of `scene`: `given` ones, else the scene's own
-    Courant number (``Scene.courant``: a scene measured to hold a larger one; with
-    DFSPH, :data:`DFSPH_COURANT`), else the defaults."""
-    if getattr(scene, "solver", "wcsph") == "dfsph":
-        if given.get("courant") is None:
-            given["courant"] = DFSPH_COURANT
-        if given.get("force_factor") is None:
-            given["force_factor"] = DFSPH_FORCE_FACTOR
-    elif given.get("courant") is None and getattr(scene, "courant", None) is not None:
-        given["courant"] = scene.courant
+    """The controls of a simulation of `scene`: `given` ones, else the defaults of its
+    solver's method for the scene (``Method.control_defaults``: the scene's own Courant
+    number, ``Scene.courant``, a scene measured to hold a larger one; or the method's),
+    else the defaults."""
+    for name, value in solvers.of(scene).control_defaults(scene).items():
+        if given.get(name) is None and value is not None:
+            given[name] = value
     given = {k: v for k, v in given.items() if not (k in ("courant", "force_factor") and v is None)}
     return Controls(**given)
 
@@ -165,7 +140,7 @@ def initial_dt(scene, controls: Controls | None = None, courant: float | None = 
     h = scene.smallest_smoothing_length()
     max_sound_speed = getattr(scene.eos, "max_sound_speed", None)
     c_max = max_sound_speed(scene) if max_sound_speed else max(m.c0 for m in scene.materials)
-    if getattr(scene, "solver", "wcsph") == "dfsph":
+    if not solvers.of(scene).acoustic:
         c_max = 0.0  # incompressible: the step follows the flow speed
     v_max = float(np.max(np.linalg.norm(scene.velocity, axis=1), initial=0.0))
     g = max([float(np.linalg.norm(t.param_values(scene.dim)["gravity"])) for t in scene.terms

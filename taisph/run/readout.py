@@ -67,7 +67,9 @@ class Readout:
         """Boolean mask of (active) fluid particles, in particle-id order (not open
         boundaries' buffer particles: :attr:`buffer`)."""
         fluid = self.kinds() == FLUID
-        return fluid & (self.quantity("open_zone") == 0) if self.solver.open is not None else fluid
+        for row in self.solver.imposed_rows:  # a term's imposed particles (Term.imposed_row)
+            fluid &= self._arrays()[2][row] == 0
+        return fluid
 
     @property
     def buffer(self) -> np.ndarray:
@@ -76,7 +78,8 @@ class Readout:
 
     def open_boundary_mass(self) -> tuple:
         """(mass that entered the fluid through open boundaries, mass that left it), kg since the start."""
-        return self.state.read(st.MASS_IN), self.state.read(st.MASS_OUT)
+        slot = self.solver.status_slot
+        return self.state.read(slot("open_boundaries", "mass_in")), self.state.read(slot("open_boundaries", "mass_out"))
 
     @property
     def wall(self) -> np.ndarray:
@@ -91,11 +94,11 @@ class Readout:
 
     def bodies(self) -> dict:
         """Each body's :class:`BodyState` now, by name (empty without bodies)."""
-        if self.solver.bodies is None:
+        if "bodies" not in self.solver.device_arrays:
             return {}
         from ..terms import rigid_bodies as rb
 
-        values = self.state.read_bodies()
+        values = self.state.read_array("bodies")
         d = self.dim
         out = {}
         for k, body in enumerate(self.scene.bodies):

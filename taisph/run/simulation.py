@@ -69,7 +69,7 @@ class Simulation(Readout):
         self.controls = timestep.controls_for(scene, **controls)
         self.serial_sort = scene.n < SERIAL_SORT_BELOW or self.controls.deterministic
         self._step_writers, self._launched = (), 0  # writers called every k steps (run)
-        self._warned_dt, self._solve_stats = False, None  # DFSPH: this simulation's solve statistics
+        self._warned_dt, self._solve_stats = False, None  # this simulation's solve statistics (pressure_solve)
         self._snapshot_key = None
         self.time, self.steps, self._dt_last, self._dt_stable = 0.0, 0, 0.0, math.inf
         self.state = State(scene, self.solver, self.runtime, _restore.grid if _restore is not None else None)
@@ -86,7 +86,7 @@ class Simulation(Readout):
         self._read_status()
 
     n = property(lambda self: self.state.n, doc="Particles in use (open boundaries create and retire them).")
-    n_fluid = property(lambda self: self._n_fluid if self.solver.open is None else int(np.count_nonzero(self.fluid)),
+    n_fluid = property(lambda self: self._n_fluid if not self.solver.creators else int(np.count_nonzero(self.fluid)),
                        doc="Fluid particles (with open boundaries: in the fluid, not in the buffers).")
 
     def _setup_grid(self, grid=None):
@@ -96,8 +96,9 @@ class Simulation(Readout):
     def _upload_parameters(self, dt=None):
         self._snapshot_key = None  # e.g. a new c0 changes the pressure of the same state
         self.state.upload_parameters(self.scene, self.controls, dt)
-        if self.solver.dfsph:  # the stepper is cached with the (pooled, maybe new) fields: bind ours
-            self._solve_stats = self.pressure_solve.bind(self._solve_stats)
+        stepper = self.pressure_solve
+        if stepper is not None:  # the stepper is cached with the (pooled, maybe new) fields: bind ours
+            self._solve_stats = stepper.bind(self._solve_stats)
 
     def close(self):
         """Free the Taichi arrays now (they are also freed when the object is dropped)."""
@@ -257,8 +258,8 @@ class Simulation(Readout):
         frames0 = frame_writer.frame if frame_writer else 0
         for writer in run_writers:
             writer.on_start(self)
-        if self.solver.dfsph:
-            self.pressure_solve.begin_window()
+        if (stepper := self.pressure_solve) is not None:
+            stepper.begin_window()
         dt_sum0 = self.state.start_run_statistics()
         steps0, rebuilds0 = self.steps, self.list_rebuilds
         start = _time.perf_counter()
@@ -276,21 +277,23 @@ class Simulation(Readout):
         steps = self.steps - steps0
         dt_min, dt_mean, dt_max = self.state.run_statistics(dt_sum0, steps)
         fluid_mass, removed_mass = self.state.fluid_and_removed_mass()
-        opened = self.open_boundary_mass() if self.solver.open else None
+        opened = self.open_boundary_mass() if "open_boundaries" in self.effects() else None
+        solves = self._solve_stats.summary() if self._solve_stats is not None else None
         return RunSummary(self.n, self.n_fluid, steps, self.time, wall,
                           frame_writer.frame - frames0 if frame_writer else 0,
                           str(frame_writer.folder) if frame_writer else None, dt_min, dt_mean, dt_max,
                           self.state.read_flag(st.REMOVED_COUNT),
                           self.list_rebuilds - rebuilds0 if self.solver.lists else None,
-                          fluid_mass, removed_mass, self._solve_stats.summary() if self.solver.dfsph else None,
+                          fluid_mass, removed_mass, solves,
                           self.state.read_flag(st.OUT_OF_RANGE_COUNT), frame_writer.removed if frame_writer else 0,
-                          opened, int(self.buffer.sum()) if self.solver.open else 0)
+                          opened, int(self.buffer.sum()) if self.solver.imposed_rows else 0)
 
     @property
     def pressure_solve(self):
-        """DFSPH's stepper (:class:`taisph.engine.dfsph.solver.Stepper`; ``stats``: this simulation's
-        solves); None for WCSPH."""
-        return self.state.step_kernels(self.serial_sort)[0] if self.solver.dfsph else None
+        """The step's host-side stepper, for a solver that iterates its pressure solves on the
+        host (DFSPH: :class:`taisph.engine.dfsph.solver.Stepper`; ``stats``: this simulation's
+        solves); None for one that does not (WCSPH). See ``taisph.engine.method.Method.stepper``."""
+        return self.solver.stepper(self.state.fields, self.serial_sort)
 
     def device_time(self) -> float:
         """The simulated time on the device now (``time`` is the host's copy, refreshed
@@ -341,5 +344,6 @@ class Simulation(Readout):
         return self.state.bytes_per_particle()
 
     def effects(self) -> list:
-        """Names of the terms compiled into this simulation's kernels (DFSPH: those it keeps)."""
+        """Names of the terms compiled into this simulation's kernels (DFSPH: those it keeps;
+        ``taisph.engine.method.Method.terms``)."""
         return [t.name for t in self.solver.active_terms(self.scene)]

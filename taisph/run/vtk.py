@@ -117,7 +117,7 @@ class VTKWriter:
         self.frame, self.entries = (0, []) if resume is None else (resume[0], list(resume[1]))
         self.walls_file = None
         # moving and floating bodies' particles: a file per frame; the other walls once
-        self.bodies = sim.wall & (sim.quantity("body") > 0) if sim.solver.bodies is not None else None
+        self.bodies = sim.wall & (sim.quantity("body") > 0) if "bodies" in sim.solver.device_arrays else None
         walls = sim.wall if self.bodies is None else sim.wall & ~self.bodies
         self.removed = 0 if resume is not None else remove_series(self.folder, self.name, keep_walls=walls.any())
         if walls.any():

@@ -100,6 +100,10 @@ def term_to_data(term) -> dict:
             "options": plain(dict(term.options), f"term {term.name!r} options")}
     if TERMS.get(cls.__name__) is not cls:
         data["module"] = cls.__module__
+    if getattr(term, "choices", None):  # options the user chose (OpenBoundaries.choose), None: default
+        data["choices"] = plain(dict(term.choices), f"term {term.name!r} choices")
+    if getattr(term, "_resolved", None):  # what they resolved to in the validated scene, and why
+        data["resolved"] = plain({k: list(v) for k, v in term._resolved.items()}, f"term {term.name!r} options")
     return data
 
 
@@ -275,6 +279,9 @@ def scene_from_data(data: dict, arrays) -> Scene:
 
             term = OpenBoundaries(zones, int(data["dim"]), float(data["dx"])).refresh()
             term.values.update(unplain(t.get("params", {}), tuples=True))  # values set since (Scene.set)
+            term.choose(**t.get("choices", {}))
+            if "resolved" in t:
+                term._resolved = {k: tuple(v) for k, v in t["resolved"].items()}
             terms.append(term)
         else:
             terms.append(term_from_data(t))

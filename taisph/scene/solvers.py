@@ -1,6 +1,7 @@
 """What each solver accepts of a scene, as rules on the scene's terms: DFSPH keeps the
 non-pressure forces and replaces the equation of state and the pressure terms by its
-pressure solve (:mod:`taisph.engine.dfsph.solver` has the method)."""
+pressure solve (its method, :mod:`taisph.engine.dfsph.method`, compiles the terms kept;
+the weakly compressible solver accepts every term)."""
 
 from ..messages import InputError
 

@@ -49,6 +49,38 @@ A term class declares (all optional):
 ``options``
     compile-time options (part of the kernel cache key), set by the constructor.
 
+A term that is a whole subsystem (open boundaries, moving bodies, ...) may also declare:
+
+``imposed_row``
+    the name of an integer row (in ``integers``) marking fluid particles whose state the
+    term imposes instead of integrating (a nonzero value): they move with their own
+    velocity, take no part in the fluid's rates, and are not counted as fluid
+    (``Simulation.fluid``, the run's fluid mass);
+``creates_particles``
+    True if the term adds or retires particles during a step; its :meth:`reserve` says
+    how many free slots the host must keep ahead of a batch of steps. A new particle
+    takes its id from the engine's ``flags[NEXT_ID]``; one that found no room counts in
+    ``flags[NO_ROOM]`` (:mod:`taisph.engine.status`), and the run stops saying so;
+``device_arrays``
+    ``{name: DeviceArray(dtype, capacity, carried)}``: one-dimensional device arrays of
+    its own, seen in kernels as ``s.store.<name>`` (``dtype`` "real" for the state's
+    precision or "f64"). :meth:`array_values` gives their values: a ``carried`` array is
+    state (written when the particles are uploaded, kept in checkpoints under its name,
+    read back by ``State.read_array``), any other is a table of parameters (written with
+    the runtime parameters, every time they change);
+``status_slots``, ``flag_slots``
+    ``{name: count}``: slots of its own in the device's f64 ``status`` and i32 ``flags``
+    arrays (sums over a step, counters), allocated per configuration after the engine's
+    own; the bound copy finds them as ``self.slot.<name>`` and ``self.flag.<name>``, the
+    host as ``Solver.status_slot(term_name, name)``;
+``escape_advice``
+    what to change when particles pass a wall this term makes (a sentence the diagnosis of a
+    failed run gives, :mod:`taisph.engine.diagnosis`), or None;
+``runs_after``
+    names of other terms whose launches (``after_sort``, ``after_force``) must come
+    before this term's at the same stage (e.g. open boundaries re-classify particles
+    only after the bodies moved). Otherwise launches run in the scene's order of terms.
+
 and the hooks it needs, ``ti.func`` methods the engine calls if the class defines them:
 
 ``pair(s, i, j, rij, r, grad, rates)``
@@ -69,6 +101,19 @@ and the hooks it needs, ``ti.func`` methods the engine calls if the class define
     (plain Python) :class:`NeighbourPass` objects: neighbour sums that must be
     complete before the rates are summed (wall pressure from the fluid, summation
     density);
+``after_sort(solver)``, ``after_force(solver)``
+    (plain Python, at compile time) a ``ti.func`` ``body(s, t_target)`` the engine
+    compiles into a launch of its own, right after the sort (before the neighbour
+    passes) or right after the force pass; its top-level loops run in parallel
+    (``ti.loop_config(serialize=True)`` for a serial one). ``solver`` is the
+    :class:`taisph.engine.assembly.Solver` (its ``grid``, ``integrator``, ``param_rows``,
+    ``kernel``...);
+``reserve(scene)``
+    (plain Python) with ``creates_particles``: free particle slots to keep;
+``array_values(name)``
+    (plain Python) the values of its device array `name` (see ``device_arrays``);
+``initial_status()``
+    (plain Python) ``{slot name: value}`` of its status slots at the start (default 0);
 ``check(scene)``
     (plain Python) raise :class:`taisph.messages.InputError` (a ValueError; exit
     code 2 on the command line) if the term cannot work in `scene`, saying what to change.
@@ -92,6 +137,15 @@ from ..engine.layout import FLUID, VARIABLE_H
 from ..messages import InputError
 
 HOOKS = ("pair", "body", "derive", "finish")
+LAUNCHES = ("after_sort", "after_force")  # hooks returning a launch of the term's own
+
+
+class DeviceArray(collections.namedtuple("DeviceArray", "dtype capacity carried")):
+    """A term's own device array (``Term.device_arrays``): ``dtype`` "real" (the state's
+    precision) or "f64", its length, and whether it is state (``carried``: uploaded with
+    the particles, kept in checkpoints) or a table of parameters."""
+
+    __slots__ = ()
 
 
 class Term:
@@ -108,11 +162,21 @@ class Term:
     has_shift = False
     outputs: tuple = ()
     accumulators: dict = {}
+    # subsystems (see the module docstring)
+    imposed_row = None
+    creates_particles = False
+    device_arrays: dict = {}
+    status_slots: dict = {}
+    flag_slots: dict = {}
+    runs_after: tuple = ()
+    escape_advice = None
     # the hooks; a subclass defines those it needs as ti.func methods
     pair = None
     body = None
     derive = None
     finish = None
+    after_sort = None  # (plain Python methods returning a ti.func body)
+    after_force = None
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -136,6 +200,10 @@ class Term:
     @property
     def has_finish(self) -> bool:
         return type(self).finish is not None
+
+    def launches(self, stage: str) -> bool:
+        """Does the term have a launch of its own at `stage` (one of LAUNCHES)?"""
+        return getattr(type(self), stage) is not None
 
     def __init__(self, walls: bool = False, **values):
         unknown = set(values) - set(self.params)
@@ -241,6 +309,18 @@ class Term:
     def passes(self) -> list:
         """Neighbour passes this term needs before the force pass (bound copies)."""
         return []
+
+    def reserve(self, scene) -> int:
+        """Free particle slots to keep ahead of a batch of steps (``creates_particles``)."""
+        return 0
+
+    def array_values(self, name: str) -> np.ndarray:
+        """Values of the device array `name` (``device_arrays``)."""
+        raise NotImplementedError(f"{type(self).__name__} declares device array {name!r} but gives no values")
+
+    def initial_status(self) -> dict:
+        """Start values of its status slots, by name (those not given start at 0)."""
+        return {}
 
     def check(self, scene) -> None:
         """Raise InputError if the term cannot work in `scene`; the base class checks

@@ -22,6 +22,7 @@ from .base import Term
 @ti.data_oriented
 class LennardJonesWall(Term):
     name = "lennard_jones_wall"
+    escape_advice = "the Lennard-Jones wall force is too weak for the impact speed (raise lj_strength) or dt too large"
     params = {"lj_strength": None, "lj_cutoff": None}
     wall_range = "lj_cutoff"  # walls act only within r0
 

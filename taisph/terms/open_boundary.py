@@ -37,8 +37,8 @@ ids in every run):
 
 So every zone works in both directions (bidirectional): a pressure outlet where a
 vortex brings fluid back feeds that fluid in, and an inlet whose flow reverses
-swallows it. The mass that crosses each way is summed on the device (``MASS_IN``,
-``MASS_OUT`` of :mod:`taisph.engine.status`): fluid mass = initial + in - out exactly.
+swallows it. The mass that crosses each way is summed on the device (the term's status
+slots ``mass_in`` and ``mass_out``): fluid mass = initial + in - out exactly.
 
 The particle count changes during a run: the fields have spare room, which the host
 grows ahead of need (:meth:`taisph.engine.state.State.ensure_room`).
@@ -53,8 +53,9 @@ import taichi as ti
 from ..engine import status as st
 from ..engine.layout import FLUID
 from ..messages import InputError
-from .base import Term
+from .base import DeviceArray, Term
 from .open_boundary_buffer import BufferUpkeep
+from .open_boundary_models import buffer_type, models
 from .open_boundary_values import EXTRAPOLATED, PRESCRIBED, Fit, fitted, table_velocity, uniform_inflow_speed
 
 ZONE_ROW = "open_zone"  # integer row: 0 in the fluid, k + 1 in zone k's buffer
@@ -64,15 +65,16 @@ TIME_SAMPLES = 513  # samples of a time table or function over its span
 PROFILES = ("uniform", "parabolic")
 
 
-_ZoneRows = collections.namedtuple("ZoneRows", "origin normal axis1 axis2 length1 length2 depth spacing pressure period "
-                                                "table_dt table_shape table_offset")
+_ZoneRows = collections.namedtuple("ZoneRows", "origin normal axis1 axis2 length1 length2 depth spacing pressure "
+                                                "period table_dt table_shape table_offset")
 
 
 def _param_names(zone, dim: int) -> dict:
     """The zone's runtime parameters and their kinds ("vector" or a number)."""
     p = zone.name + "_"
     return {p + "origin": "vector", p + "normal": "vector", p + "axis1": "vector", p + "axis2": "vector",
-            p + "length1": 1.0, p + "length2": 1.0, p + "depth": 1.0, p + "spacing": 1.0, p + "pressure": 0.0, p + "period": 0.0,
+            p + "length1": 1.0, p + "length2": 1.0, p + "depth": 1.0, p + "spacing": 1.0, p + "pressure": 0.0,
+            p + "period": 0.0,
             p + "table_dt": 0.0, p + "table_shape": "vector3", p + "table_offset": 0.0}
 
 
@@ -81,19 +83,80 @@ class OpenBoundaries(Term):
     """The open boundary zones of a scene (:class:`OpenBoundary`, see the module
     docstring). Made and kept up to date by :meth:`taisph.Scene.add_open_boundary`;
     compiled only into scenes that have zones. Runtime parameters, by zone name:
-    ``<name>_pressure`` (a prescribed pressure, Pa) and the zone's geometry."""
+    ``<name>_pressure`` (a prescribed pressure, Pa) and the zone's geometry.
+
+    Two algorithms are options (:meth:`choose`; compile time), each ``None`` for its default:
+
+    ``uniform_inflow``
+        water entering through a zone that extrapolates the velocity takes the zone's
+        mean normal speed, one uniform stream (:func:`.open_boundary_values.uniform_inflow_speed`).
+        Default: on where the scene has no laminar viscosity (Euler's equations need an
+        inflow's profile given; with viscosity the fluid sets its own);
+    ``fill_holes``
+        a hole among a buffer's lattice sites gets a new particle (:mod:`.open_boundary_buffer`).
+        Default: on where the density is summed (a summed density reads a hole at once, as a
+        light entrant; an evolved one does not, and there filling fed mass in).
+
+    ``describe()`` and the run's header show what each resolved to and why."""
 
     name = "open_boundaries"
     integers = (ZONE_ROW,)
     wall_range = None
     outputs = (ZONE_ROW,)
+    # a subsystem (terms/base.py): buffer particles are imposed, zones create and retire
+    # particles, the velocity tables live on the device, and the zones re-classify particles
+    # only after bodies moved
+    imposed_row = ZONE_ROW
+    creates_particles = True
+    device_arrays = {"tables": DeviceArray("real", TABLE_CAPACITY, carried=False)}
+    runs_after = ("rigid_bodies",)
+
+    @property
+    def status_slots(self) -> dict:
+        """Mass that entered the fluid from a zone's buffer and mass that left it into one,
+        since the start; without viscosity, each zone's sum of its buffer's normal speeds
+        and their count, this step."""
+        speeds = 2 * len(self.zones) if self.options.get("uniform_inflow") else 0
+        return {"mass_in": 1, "mass_out": 1, **({"zone_speeds": speeds} if speeds else {})}
+
+    def array_values(self, name: str) -> np.ndarray:
+        return self.table_values()
+
+    CHOICES = ("uniform_inflow", "fill_holes")
 
     def __init__(self, zones: list, dim: int, dx: float):
         self.zones, self.dim, self.dx = zones, dim, dx
         self._declare()
         super().__init__()
         self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in zones)}
+        self.choices = dict.fromkeys(self.CHOICES)  # None: the default (see the class docstring)
         self._tables = None
+
+    def choose(self, **choices):
+        """Set the options ``uniform_inflow`` and ``fill_holes`` (True, False, or None for
+        the default); returns the term. E.g.
+        ``scene.terms_by_name["open_boundaries"].choose(uniform_inflow=False)``."""
+        unknown = set(choices) - set(self.CHOICES)
+        if unknown:
+            raise InputError(f"open boundaries: no option {', '.join(sorted(unknown))}; "
+                             f"the options are {', '.join(self.CHOICES)}")
+        for key, value in choices.items():
+            if value not in (None, True, False):
+                raise InputError(f"open boundaries: {key} must be true, false or none (the default), got {value!r}")
+        self.choices.update(choices)
+        return self
+
+    def _resolve(self, scene) -> dict:
+        """Each option's value in `scene` and why: ``{name: (value, reason)}``."""
+        extrapolated = any(z.velocity_mode == EXTRAPOLATED for z in self.zones)
+        viscous = "laminar_viscosity" in scene.terms_by_name
+        summed = "summation_density" in scene.terms_by_name
+        defaults = {"uniform_inflow": (not viscous and extrapolated,
+                                       "default: " + ("no zone extrapolates the velocity" if not extrapolated
+                                                      else "laminar viscosity" if viscous else "no viscosity")),
+                    "fill_holes": (summed, "default: " + ("summed density" if summed else "evolved density"))}
+        return {k: (defaults[k] if self.choices.get(k) is None else (self.choices[k], "chosen"))
+                for k in self.CHOICES}
 
     def _declare(self):
         """The zones' runtime parameters, declared as a term's (``params``)."""
@@ -107,7 +170,7 @@ class OpenBoundaries(Term):
         """Recompute the parameter values from the zones (after a zone was added or changed)."""
         self._declare()
         self.options = {"zones": tuple((z.velocity_mode, z.pressure_mode) for z in self.zones),
-                        **{k: v for k, v in self.options.items() if k in ("fill_holes", "uniform_inflow")}}
+                        **{k: v for k, v in self.options.items() if k in self.CHOICES}}
         self.values = {}
         offset = 0
         self._tables = []
@@ -134,7 +197,10 @@ class OpenBoundaries(Term):
         return self
 
     def describe(self) -> str:
-        return f"open_boundaries({', '.join(z.name for z in self.zones)})"
+        resolved = getattr(self, "_resolved", None)
+        options = ("; " + ", ".join(f"{k}={'on' if v else 'off'} ({why})" for k, (v, why) in resolved.items())
+                   if resolved else "")
+        return f"open_boundaries({', '.join(z.name for z in self.zones)}{options})"
 
     def table_values(self) -> np.ndarray:
         """Every zone's velocity table, one after the other (offsets in the parameters)."""
@@ -165,19 +231,11 @@ class OpenBoundaries(Term):
         if "adaptive_h" in scene.terms_by_name:
             raise InputError("open boundaries need a constant smoothing length (not adaptive_h): their buffers "
                              "are laid out on the lattice of the scene's dx")
-        # a summed density reads a hole of a buffer at once, as a light entrant; an evolved one
-        # does not, and there filling them fed mass in (open_boundary_buffer)
-        self.options["fill_holes"] = "summation_density" in scene.terms_by_name
         if type(scene.eos).__name__ != "Tait":
             raise InputError("open boundaries need the Tait equation of state (their density comes from the "
                              "prescribed or extrapolated pressure by its inverse)")
-        # without viscosity nothing decides the profile of water flowing in through a zone that
-        # extrapolates the velocity: such inflow is made uniform along the face (after_sort)
-        self.options["uniform_inflow"] = ("laminar_viscosity" not in scene.terms_by_name
-                                          and any(z.velocity_mode == EXTRAPOLATED for z in self.zones))
-        if self.options["uniform_inflow"] and len(self.zones) > st.MAX_ZONES:
-            raise InputError(f"open boundaries: at most {st.MAX_ZONES} zones in a scene without viscosity, "
-                             f"got {len(self.zones)}")
+        self._resolved = self._resolve(scene)  # the options (class docstring), shown by describe()
+        self.options.update({k: v for k, (v, _) in self._resolved.items()})
 
     def reserve(self, scene) -> int:
         """Free particle slots to keep ahead of a batch of steps (up to 128): every
@@ -221,19 +279,42 @@ class OpenBoundaries(Term):
 
     def after_sort(self, solver):
         """The step's first neighbour sum: every buffer particle's velocity and density
-        (prescribed, or extrapolated from the fluid around its mirror image), in ``S``,
-        before the wall pass and the rates read them."""
+        (prescribed, or extrapolated from the fluid around its mirror image; each zone's
+        models in :mod:`.open_boundary_models`), in ``S``, before the wall pass and the
+        rates read them."""
         from ..engine.kernels import TRACED, derive_all
 
-        q, grid, kern = self.q, solver.grid, solver.kernel
-        p_inv_h, p_w_norm = solver.param_rows["inv_h"], solver.param_rows["w_norm"]
+        q, grid, eos = self.q, solver.grid, self.eos
         p_h = solver.param_rows["smoothing_length"]
-        derive, m = derive_all(solver), self.m
-        visitor = Fit(q, kern, p_inv_h, p_w_norm, self.dim)
-        n_zones = len(self.zones)
-        modes = self.modes
-        dim = self.dim
-        uniform_inflow = self.options.get("uniform_inflow", False)
+        derive = derive_all(solver)
+        visitor = Fit(q, solver.kernel, solver.param_rows["inv_h"], solver.param_rows["w_norm"], self.dim)
+        zone_models = models(self, p_h)
+        Buffer = buffer_type(self.dim, solver.real)
+        n_zones, dim = len(self.zones), self.dim
+
+        @ti.func
+        def impose(s: ti.template(), i, z: ti.template(), t):
+            """Buffer particle i of zone z: its velocity and pressure by the zone's models,
+            its density by the inverse equation of state, then what derives from it."""
+            x = s.Sv[q.position, i]
+            distance, _ = self._distance(s, z, x)
+            normal = ti.Vector([s.params[self.rows[z].normal + d] for d in ti.static(range(dim))])
+            # one point for the whole line of buffer particles normal to the face: a
+            # smoothing length inside it (each row of the buffer then moves as one)
+            mirror = x + (s.params[p_h] - distance) * normal
+            acc = ti.Vector.zero(s.Sv.dtype, 2 * (dim + 1) ** 2)  # moments (Fit)
+            grid.for_each_neighbour(s, i, mirror, s.params[self.p_support2], visitor, acc)
+            p_fluid, v_fluid = s.Ss[q.pressure, i], s.Sv[q.velocity, i]
+            if acc[0] > 0.0:
+                p_fluid, v_fluid = fitted(acc, dim)
+            at = Buffer(i=i, x=x, time=t, normal=normal, distance=distance, fitted=ti.cast(acc[0] > 0.0, ti.i32),
+                        p_fluid=p_fluid, v_fluid=v_fluid)
+            velocity_model, pressure_model = ti.static(zone_models[z])
+            v = velocity_model.velocity(s, at, pressure_model)
+            p = pressure_model.pressure(s, at, velocity_model, v)
+            s.Ss[q.density, i] = eos.density_at(s, s.Si[q.material, i], p)
+            s.Sv[q.velocity, i] = v
+            derive(s, i)  # pressure (and P/rho^2...) from the new density
 
         @ti.func
         def body(s: ti.template(), t_target):
@@ -245,78 +326,26 @@ class OpenBoundaries(Term):
             for i in range(n):
                 zone = s.Si[q.open_zone, i]
                 if s.Si[q.kind, i] == FLUID and zone > 0:
-                    x = s.Sv[q.position, i]
                     for z in ti.static(range(n_zones)):
                         if zone == z + 1:
-                            distance, _ = self._distance(s, z, x)
-                            normal = ti.Vector([s.params[self.rows[z].normal + d] for d in ti.static(range(dim))])
-                            # one point for the whole line of buffer particles normal to the face: a
-                            # smoothing length inside it (each row of the buffer then moves as one)
-                            mirror = x + (s.params[p_h] - distance) * normal
-                            acc = ti.Vector.zero(s.Sv.dtype, 2 * (dim + 1) ** 2)  # moments (_Mirror)
-                            grid.for_each_neighbour(s, i, mirror, s.params[self.p_support2], visitor, acc)
-                            v = s.Sv[q.velocity, i]
-                            p = s.Ss[q.pressure, i]
-                            p_fluid, v_fluid = p, v
-                            if acc[0] > 0.0:
-                                p_fluid, v_fluid = fitted(acc, dim)
-                                if ti.static(modes[z][0] == EXTRAPOLATED):
-                                    # its normal part only: each line of the buffer then moves along the
-                                    # normal, keeping the lattice (a sideways drift emptied the buffer by
-                                    # the walls, where the fluid tore open at H/dx = 40)
-                                    speed = v_fluid.dot(normal)
-                                    if ti.static(modes[z][1] == PRESCRIBED):
-                                        # the characteristic leaving the fluid through the face carries
-                                        # u_n - p / (rho0 c0): with p prescribed, the buffer's speed lets
-                                        # the fluid push out (or draw in) what its pressure says. Without
-                                        # it, a buffer at the fluid's own speed held the outflow back, and
-                                        # the channel's flow was 6 % short at H/20
-                                        # at most the fluid's own speed: uncapped, the cylinder's noisy pressure at
-                                        # the outlet's corner (-24 to -122 Pa) drove lines in at 2 m/s and stopped
-                                        # Re 100, D/dx 20 at 1.26 s (docs/validation.md, "Re 100")
-                                        material = s.Si[q.material, i]
-                                        extra = (s.params[self.rows[z].pressure] - p_fluid) / (
-                                            s.mat[material, m.rho0] * s.mat[material, m.c0])
-                                        bound = ti.abs(speed)
-                                        speed += ti.min(ti.max(extra, -bound), bound)
-                                    v = speed * normal
-                                if ti.static(modes[z][1] == EXTRAPOLATED):
-                                    p = p_fluid
-                            if ti.static(modes[z][0] == PRESCRIBED):
-                                v = table_velocity(s, self.rows[z], dim, x, t)
-                                if ti.static(modes[z][1] == EXTRAPOLATED):
-                                    # the same characteristic, read for the pressure: a buffer that moves
-                                    # away from the fluid faster than the fluid follows draws it by a
-                                    # lower pressure (without it an inlet whose flow reversed left the
-                                    # fluid behind and ran empty)
-                                    material = s.Si[q.material, i]
-                                    p = p_fluid + s.mat[material, m.rho0] * s.mat[material, m.c0] * (
-                                        v - v_fluid).dot(normal)
-                            if ti.static(modes[z][1] == PRESCRIBED):
-                                # the prescribed value at the face, and the fluid's gradient across it: p
-                                # linear through (face, p0) and (x_r, fluid's p), so that the face is
-                                # where the pressure is p0 (a constant buffer moved that point about a
-                                # support outside, and the channel's pressure drop fell 5 % at H/40)
-                                p0 = s.params[self.rows[z].pressure]
-                                p = p0
-                                if acc[0] > 0.0:
-                                    p = p0 + (p0 - p_fluid) * (-distance) / s.params[p_h]
-                            material = s.Si[q.material, i]
-                            base = ti.max(1.0 + p / s.mat[material, m.B], 0.05)
-                            s.Ss[q.density, i] = s.mat[material, m.rho0] * ti.pow(base, 1.0 / s.mat[material, m.gamma])
-                            s.Sv[q.velocity, i] = v
-                            derive(s, i)  # pressure (and P/rho^2...) from the new density
-            if ti.static(uniform_inflow):  # the zones' mean speeds (summed in order: reproducible)
-                for z in ti.static(range(n_zones)):
-                    s.status[st.ZONE_SPEEDS + 2 * z] = 0.0
-                    s.status[st.ZONE_SPEEDS + 2 * z + 1] = 0.0
-                ti.loop_config(serialize=True)
-                for i in range(n):
-                    uniform_inflow_speed(s, q, self.rows, modes, dim, i, False)
-                for i in range(n):
-                    uniform_inflow_speed(s, q, self.rows, modes, dim, i, True)
+                            impose(s, i, z, t)
+            if ti.static(self.options.get("uniform_inflow", False)):
+                self._uniform_inflow(s, n)
 
         return body
+
+    @ti.func
+    def _uniform_inflow(self, s: ti.template(), n):
+        """The zones' mean inflow speeds given to their entering water (summed in order:
+        reproducible; :func:`.open_boundary_values.uniform_inflow_speed`)."""
+        for z in ti.static(range(len(self.zones))):
+            s.status[self.slot.zone_speeds + 2 * z] = 0.0
+            s.status[self.slot.zone_speeds + 2 * z + 1] = 0.0
+        ti.loop_config(serialize=True)
+        for i in range(n):
+            uniform_inflow_speed(s, self.q, self.rows, self.modes, self.dim, self.slot.zone_speeds, i, False)
+        for i in range(n):
+            uniform_inflow_speed(s, self.q, self.rows, self.modes, self.dim, self.slot.zone_speeds, i, True)
 
     def after_force(self, solver):
         """The zones' bookkeeping after the particles moved (serial; see the module
@@ -353,7 +382,7 @@ class OpenBoundaries(Term):
                                 if zone == 0 and distance < 0.0 and distance > -depth and not beside:
                                     zone = z + 1  # left the fluid: a buffer particle of this zone
                                     s.Ci[q.open_zone, i] = zone
-                                    s.status[st.MASS_OUT] += s.Cs[q.mass, i]
+                                    s.status[self.slot.mass_out] += s.Cs[q.mass, i]
                                     for k in ti.static(prev_v):  # imposed, not integrated: no rates of its own
                                         s.Cv[k, i] = ti.Vector.zero(s.Cv.dtype, dim)
                                     for k in ti.static(prev_s):
@@ -361,15 +390,14 @@ class OpenBoundaries(Term):
                                 elif zone == z + 1:
                                     if distance >= 0.0 and not beside:  # entered the fluid
                                         s.Ci[q.open_zone, i] = 0
-                                        s.status[st.MASS_IN] += s.Cs[q.mass, i]
+                                        s.status[self.slot.mass_in] += s.Cs[q.mass, i]
                                         slot = n + made
                                         normal = ti.Vector([s.params[self.rows[z].normal + d]
                                                             for d in ti.static(range(dim))])
                                         behind = x - depth * normal
                                         # its successor, depth behind it, unless a particle is already
                                         # within half a spacing there (a buffer refilled by fluid that
-                                        # flowed out is not a lattice: spawning blind there crowded it and
-                                        # added 2 % of mass in two periods of a reversing flow)
+                                        # flowed out is not a lattice: spawning blind would crowd it)
                                         spacing = s.params[self.rows[z].spacing]
                                         crowd = 0
                                         grid.for_each_neighbour(s, -1, behind, 0.25 * spacing * spacing, counter,

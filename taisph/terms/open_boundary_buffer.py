@@ -5,33 +5,27 @@ stays one (its successors are placed a whole depth behind the particles that ent
 Water that leaves through a face becomes buffer as it is: the wake of a cylinder, or a
 column swallowed by an inlet whose flow turned, is no lattice. When the flow turns again
 that buffer comes back in, and the fluid next to the face, or the entrant itself, reads
-its crowded pairs and its holes at once: with a summed density a particle 20-25 % light
-or dense stops the run (the cylinder at Re 100 at 3.67-4.25 s at an outlet corner, the
-reversing stream of issue 27's check 4 at 0.63 s at the inlet; docs/open_boundaries.md).
-Two rules, applied in the serial bookkeeping after each step, hold the buffer's
-spacing to that of a lattice without moving any particle:
+its crowded pairs and its holes at once: with a summed density a particle far light or
+dense trips the density guard. Two rules, applied in the serial bookkeeping after each
+step, hold the buffer's spacing to that of a lattice without moving any particle
+(the runs that chose them: docs/open_boundaries.md, "Why each choice (measured)"):
 
 - **thinning**: a buffer particle with an older particle of its zone within
   ``THIN * dx`` is retired (its mass left the fluid already; a lattice never has one);
 - **filling**, in scenes whose density is summed (``SummationDensity``; with an evolved
-  density a hole that enters is not read as a density, and filling fed mass in: issue
-  27's reversing stream gained 1.17 % of its mass in two periods against 1.015 %
-  without, all of it from the outlet): a point of the zone's own lattice sites (the
-  rows of its initial buffer, fixed in space, all but the farthest) that is a *hole*
-  gets a new buffer particle, a
-  copy of one of the zone's (mass, material), whose velocity and density the next step
-  imposes. A hole: no particle within ``FILL * dx``; a kernel sum sum_j W dx^dim below
-  ``SPARSE`` (1 inside a lattice; a summed density that low is where the density guard
-  stops a run, at 20 %); and surrounded (within 2 dx, at least ``SURROUNDED`` of the
+  density a hole that enters is not read as a density, and filling would feed mass in):
+  a point of the zone's own lattice sites (the rows of its initial buffer, fixed in
+  space, all but the farthest) that is a *hole* gets a new buffer particle, a copy of
+  one of the zone's (mass, material), whose velocity and density the next step imposes.
+  A hole: no particle within ``FILL * dx``; a kernel sum sum_j W dx^dim below ``SPARSE``
+  (1 inside a lattice); and surrounded (within 2 dx, at least ``SURROUNDED`` of the
   particles a lattice puts there), so that a free surface crossing the zone is not one
   (a site above it sees ~5 of the 12.6 particles in 2D, ~5 of 33.5 in 3D; a hole 11.6
   and 32.5). One particle missing from a lattice is a hole for the cubic spline and
   Wendland C2 at h = 1.3 dx in 2D (sums 0.73, 0.68), not with h = 2 dx or in 3D (0.81 to
   0.86), where the density sum feels it less. Water that flowed out at its own density
-  but off the lattice is not refilled: its sums stay near 1 (filling every point farther
-  than 0.75 dx from a particle did: the reversing stream gained 4.6 % of its mass over
-  10 periods). The farthest row is left to the successors, whose places
-  are a whole depth behind an entrant.
+  but off the lattice is not refilled: its sums stay near 1. The farthest row is left to
+  the successors, whose places are a whole depth behind an entrant.
 
 Neither changes the fluid's mass: buffer particles are outside the fluid, and the mass
 counters move only when a particle crosses a face.

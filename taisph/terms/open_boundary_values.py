@@ -38,8 +38,9 @@ def table_velocity(s: ti.template(), r: ti.template(), dim: ti.template(), x, t)
         if count > 1:
             frac = rel.dot(axis) / s.params[(r.length1, r.length2)[k]]
             f[k] = ti.min(ti.max(frac, 0.0), 1.0) * (count - 1.0)
-    k_t, k_1, k_2 = ti.min(ti.cast(ft, ti.i32), ti.max(n_t - 2, 0)), ti.min(ti.cast(f[0], ti.i32), ti.max(n_1 - 2, 0)), \
-        ti.min(ti.cast(f[1], ti.i32), ti.max(n_2 - 2, 0))
+    k_t = ti.min(ti.cast(ft, ti.i32), ti.max(n_t - 2, 0))  # the interval's first sample along each
+    k_1 = ti.min(ti.cast(f[0], ti.i32), ti.max(n_1 - 2, 0))
+    k_2 = ti.min(ti.cast(f[1], ti.i32), ti.max(n_2 - 2, 0))
     w_t, w_1, w_2 = ft - k_t, f[0] - k_1, f[1] - k_2
     base = ti.cast(s.params[r.table_offset], ti.i32)
     value = ti.Vector.zero(s.Sv.dtype, dim)
@@ -53,7 +54,7 @@ def table_velocity(s: ti.template(), r: ti.template(), dim: ti.template(), x, t)
             row = ((ti.min(k_t + dt_, n_t - 1) * n_1 + ti.min(k_1 + d1, n_1 - 1)) * n_2
                    + ti.min(k_2 + d2, n_2 - 1)) * dim
             for d in ti.static(range(dim)):
-                value[d] += weight * s.tables[base + row + d]
+                value[d] += weight * s.store.tables[base + row + d]
     return value
 
 
@@ -107,10 +108,11 @@ def fitted(acc: ti.template(), dim: ti.template()):
 
 @ti.func
 def uniform_inflow_speed(s: ti.template(), q: ti.template(), rows: ti.template(), modes: ti.template(),
-                         dim: ti.template(), i, assign: ti.template()):
+                         dim: ti.template(), speeds: ti.template(), i, assign: ti.template()):
     """Without viscosity (the buffer pass of :class:`taisph.terms.open_boundary.OpenBoundaries`),
     for buffer particle i of a zone that extrapolates the velocity: its normal speed added to
-    its zone's sum (`assign` False), or, if it moves in, the zone's mean normal speed given to
+    its zone's sum (`assign` False; zone z's sum and count in status slots ``speeds + 2 z`` and
+    the next), or, if it moves in, the zone's mean normal speed given to
     it (`assign` True; the mean if that is inward, else it stands), so that water enters such
     a face as one uniform stream. Euler's equations need an inflow's profile given;
     extrapolated, each line of the buffer carried its own speed into the fluid its next fit
@@ -124,7 +126,7 @@ def uniform_inflow_speed(s: ti.template(), q: ti.template(), rows: ti.template()
                 if zone == z + 1:
                     normal = ti.Vector([s.params[rows[z].normal + d] for d in ti.static(range(dim))])
                     speed = s.Sv[q.velocity, i].dot(normal)
-                    total, count = st.ZONE_SPEEDS + 2 * z, st.ZONE_SPEEDS + 2 * z + 1
+                    total, count = speeds + 2 * z, speeds + 2 * z + 1
                     if ti.static(assign):
                         if speed > 0.0:
                             s.Sv[q.velocity, i] = ti.max(s.status[total] / ti.max(s.status[count], 1.0), 0.0) * normal

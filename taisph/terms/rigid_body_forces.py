@@ -21,13 +21,14 @@ unit mass, pushing only,
 
 and the body gets minus m_f a_f (gathered like the fluid's other pair forces). Dummy walls
 hold water off only by the pressure they extrapolate from it: a droplet left on a body's
-dry top has next to none, so gravity settled such particles onto the body's particles
-(0.05 dx apart at dx = 0.005 m in the water entry) and through its surface row.
+dry top has next to none, so gravity settled such particles onto the body's particles and
+through its surface row (docs/bodies.md, "Water entry").
 """
 
 import taichi as ti
 
 from ..engine.layout import FLUID
+from .rigid_body_record import BODY, MOTIONS, bodies_of
 
 
 @ti.func
@@ -89,7 +90,7 @@ class BodyForce:
     """Neighbour visitor: the force on body particle i (the wall) from its fluid
     neighbours through every pair term, and from the contact spring-dashpot."""
 
-    def __init__(self, solver, body_cols, particle_mass, motion, floating):
+    def __init__(self, solver):
         self.q = solver.layout.q
         self.kern = solver.kernel
         self.terms = [t for t in solver.terms if t.has_pair]
@@ -100,9 +101,7 @@ class BodyForce:
         self.p_dc = solver.param_rows["contact_distance"]
         self.Rates = solver.Rates
         self.real, self.dim = solver.real, solver.dim
-        # columns of the bodies field (taisph.terms.rigid_bodies): a block's length, the body's
-        # mass per particle, its motion's code, and the code of a floating body
-        self.cols, self.particle_mass, self.motion, self.floating = body_cols, particle_mass, motion, floating
+        self.floating = MOTIONS["floating"]
 
     @ti.func
     def visit(self, s: ti.template(), w, j, rwj, r2, acc: ti.template()):
@@ -116,14 +115,14 @@ class BodyForce:
                 t.pair(s, j, w, rjw, r, grad, rates)
             acc -= s.Ss[q.mass, j] * rates.acc
         elif (s.Si[q.body, j] != s.Si[q.body, w] and r < s.params[self.p_dc] and r > 0.0
-              and s.bodies[(s.Si[q.body, w] - 1) * self.cols + self.motion] == self.floating):
-            mine = (s.Si[q.body, w] - 1) * self.cols
-            m = s.bodies[mine + self.particle_mass]
+              and ti.static(bodies_of(s))[(s.Si[q.body, w] - 1) * BODY.cols + BODY.motion] == self.floating):
+            mine = (s.Si[q.body, w] - 1) * BODY.cols
+            m = ti.static(bodies_of(s))[mine + BODY.particle_mass]
             other = s.Si[q.body, j]
             if other > 0:
-                base = (other - 1) * self.cols
-                if s.bodies[base + self.motion] == self.floating:
-                    mj = s.bodies[base + self.particle_mass]
+                base = (other - 1) * BODY.cols
+                if ti.static(bodies_of(s))[base + BODY.motion] == self.floating:
+                    mj = ti.static(bodies_of(s))[base + BODY.particle_mass]
                     m = m * mj / (m + mj)
             n = rwj / r
             k = s.params[self.p_k]

@@ -59,7 +59,8 @@ with at least ``dfsph_min_iterations`` (2) density iterations and at most
 error is within the tolerance before any iteration. A solve that reaches the maximum
 above its tolerance but within ``dfsph_error_bound`` (10) times it is kept and counted
 (:class:`Stats`: ``above_tolerance``, the worst error over its tolerance); beyond that it
-stops the run through the guards (``UNCONVERGED``, :mod:`.diagnosis`).
+stops the run through the guards (``UNCONVERGED``, :mod:`taisph.engine.diagnosis` with
+:mod:`.diagnosis`).
 Each solve starts from the last step's pressures (warm start, BK17 sec. 4.3; the first
 from the scene's initial pressure, :func:`initial_kappa`). Particles with fewer than
 7 (2D) or 20 (3D) neighbours (splashes) get no divergence correction. The measured
@@ -71,8 +72,8 @@ The time step: dt = min(C h / max|v|, 0.1 sqrt(h / |g|), 0.125 h^2 / nu, dt_max)
 (:mod:`.timestep`, the same formula as the weakly compressible step with the signal
 speed |v| in place of c + |v|, the body forces as the acceleration, and nu the largest
 of the laminar viscosity and the artificial viscosity's alpha h c0 / (2 (d + 2))),
-C = 0.3 by default (0.39 dx: BK17's CFL number 0.4 particle diameters; the ``courant``
-control).
+C = 0.5 by default (:data:`.method.DFSPH_COURANT`, 0.65 dx, where BK17 use 0.4 particle
+diameters; the ``courant`` control), the force factor 0.1 (:data:`.method.DFSPH_FORCE_FACTOR`).
 
 Walls are particles that carry a volume, m_b / rho0 (their mass as given: the
 lattice of the tank's three layers dx apart has the fluid's volume per particle),
@@ -91,7 +92,7 @@ from .. import status as st
 from ...eos import tait
 from ..layout import FLUID
 from .chebyshev import Chebyshev
-# the runtime parameters of the solve, derived per scene (re-exported: the engine reads them here)
+# the runtime parameters of the solve, derived per scene (re-exported: the docstring above names them)
 from .parameters import (MIN_NEIGHBOURS, PARAMS, artificial_viscosity_nu, gradient_scale,  # noqa: F401
                          lattice_ratio, parameter_values, relaxation)
 from .kernels import CHUNKS, Bodies  # noqa: F401 (CHUNKS: the size of the error sums' field)
@@ -136,7 +137,8 @@ def rows(has_shift: bool, wall_velocity: bool):
     (carried: the warm start), the factor, the solve's source, the pressure
     acceleration, the predicted velocity v*, the XSPH shift and the walls' no-slip
     velocity if a kept term needs them."""
-    vectors = ["v_pred", "vstar", "gsum"] + (["shift"] if has_shift else []) + (["wall_velocity"] if wall_velocity else [])
+    vectors = (["v_pred", "vstar", "gsum"] + (["shift"] if has_shift else [])
+               + (["wall_velocity"] if wall_velocity else []))
     scalars = ["kappa", "kappa_v", "kappa_prev", "alpha", "source"] + (["wall_weight"] if wall_velocity else [])
     derived = ["v_pred", "vstar", "gsum", "shift", "wall_velocity", "wall_weight", "alpha", "source", "kappa_prev"]
     return vectors, scalars, derived
