@@ -9,6 +9,7 @@ from .continuity_colagrossi import ContinuityColagrossi
 from .damping_zone import DampingZone
 from .density_diffusion import DensityDiffusion
 from .density_relaxation import DensityRelaxation
+from .drain import Drain
 from .energy import InternalEnergy
 from .gravity import STANDARD_GRAVITY, Gravity
 from .laminar_viscosity import LaminarViscosity
@@ -46,6 +47,7 @@ __all__ = [
     "ParticleShifting",
     "Riemann",
     "DampingZone",
+    "Drain",
     "OpenBoundaries",
     "RigidBodies",
 ]
