@@ -86,7 +86,7 @@ class Drag(Term):
     params = {"k": 1.0}
 
     @ti.func
-    def body(self, s: ti.template(), i, rates: ti.template()):
+    def particle(self, s: ti.template(), i, rates: ti.template()):
         rates.acc -= s.params[self.p.k] * s.Sv[self.q.velocity, i]
 
 

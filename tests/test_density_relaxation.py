@@ -99,4 +99,4 @@ def test_its_code_is_compiled_only_where_it_is_listed():
         kernels.TRACED.clear()
         taisph.Simulation(box((True, True), 0.01, 0.0, terms=terms)).step(1)
         traced.append({role for name, role in kernels.TRACED if name == "density_relaxation"})
-    assert traced == [set(), {"pass", "body"}]
+    assert traced == [set(), {"pass", "particle"}]

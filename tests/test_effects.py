@@ -31,7 +31,7 @@ def test_unlisted_terms_are_not_compiled():
     bare = traced_while(lambda: taisph.Simulation(bare_scene()).step(1))
     assert bare == {("continuity", "pair"), ("pressure", "pair"), ("pressure", "derive"), ("tait", "eos")}
     full = traced_while(lambda: taisph.Simulation(taisph.cases.dam_break(dx=0.2, seed_physics=True)).step(1))
-    assert {("artificial_viscosity", "pair"), ("lennard_jones_wall", "pair"), ("gravity", "body")} <= full
+    assert {("artificial_viscosity", "pair"), ("lennard_jones_wall", "pair"), ("gravity", "particle")} <= full
     assert bare < full
 
 
@@ -47,7 +47,7 @@ def test_a_dfsph_kernel_has_no_equation_of_state_and_a_wcsph_kernel_no_dfsph_pas
     dfsph = traced_while(lambda: taisph.Simulation(scene).step(1))
     # (the divergence solve compiles when it first has work: not in a first step from rest)
     assert {("dfsph", "density"), ("dfsph", "density solve"), ("artificial_viscosity", "pair"),
-            ("gravity", "body")} <= dfsph
+            ("gravity", "particle")} <= dfsph
     names = {name for name, _ in dfsph}
     assert not names & {"tait", "continuity", "pressure", "density_diffusion", "dummy_walls"}
 

@@ -111,7 +111,7 @@ def test_adaptive_dt_honours_the_viscous_limit():
 
 
 def test_a_term_is_called_exactly_when_it_defines_a_hook():
-    """has_pair/has_body/has_derive are derived from the hooks a class defines: a term
+    """has_pair/has_particle/has_derive are derived from the hooks a class defines: a term
     with a pair() and no flag is traced into the force kernel (a forgotten flag used to
     drop it silently), and a class that sets a flag is refused."""
     import taichi as ti
@@ -125,7 +125,7 @@ def test_a_term_is_called_exactly_when_it_defines_a_hook():
         def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
             rates.acc -= s.params[self.p.k] * (s.Sv[self.q.velocity, i] - s.Sv[self.q.velocity, j])
 
-    assert Drag().has_pair and not Drag().has_body and not Drag().has_derive
+    assert Drag().has_pair and not Drag().has_particle and not Drag().has_derive
     scene = periodic_box()
     scene.terms.append(Drag(k=1.0))
     kernels.TRACED.clear()

@@ -26,10 +26,9 @@ density error is removed and counted too, as DualSPHysics removes particles whos
 density leaves its range (``RhopOutMin``/``RhopOutMax``, 700-1300 kg/m^3 by default),
 until ``max_out_of_range`` (a fraction of the fluid particles, a control) have been
 removed that way; the next one stops the run. Weakly compressible SPH cannot represent
-a few particles in flight: in the flagship dam break at dx = 0.005 the run-up jets fly
-8 m high, fall back onto the right wall's top, and a few particles there are thrown at
-tens of m/s and crushed or stretched beyond the guard's range (docs/stability.md). A
-blow-up of the bulk removes many particles at once and reaches the limit.
+a few particles in flight (a jet's spray thrown against a wall's top is crushed or
+stretched beyond the guard's range: docs/stability.md); a blow-up of the bulk removes
+many particles at once and reaches the limit.
 """
 
 import collections
@@ -115,9 +114,8 @@ class Guards:
         """Take fluid particle i (in C) out of the simulation, for good: kind ``removed``
         (no forces, not written, not guarded) and position NaN, which no neighbour
         search ever finds within its range (a removed particle left where it was, or
-        moving on, would still push its neighbours with its last pressure: at dx = 0.005
-        such particles, removed for their density, crossed the tank at hundreds of m/s
-        and blew the flow up, docs/stability.md), and velocity zero."""
+        moving on, would still push its neighbours with its last pressure and blow the
+        flow up: docs/stability.md), and velocity zero."""
         q = ti.static(self.q)
         s.Ci[q.kind, i] = REMOVED
         s.Cv[q.position, i] = ti.Vector([ti.math.nan] * self.dim, dt=s.Cv.dtype)

@@ -15,7 +15,7 @@ work is fused into as few passes as possible; docs/performance.md):
 ``passes``  :func:`pass_body`, only if a term needs them: neighbour sums that must be
             complete before the rates (wall pressure extrapolated from the fluid,
             summation density), one launch each, in the order the terms list them.
-``force``   :func:`force_body`. For every fluid particle: the terms' ``body``
+``force``   :func:`force_body`. For every fluid particle: the terms' ``particle``
             contributions, then the sum of their ``pair`` contributions over its
             neighbours (``ti.static`` loop over the terms: an unlisted term has no
             code), the integrator's update into ``C``, the maxima for the next dt and
@@ -242,7 +242,7 @@ def force_body(solver):
     real, dim = solver.real, solver.dim
     grid, integ, timestep, guards = solver.grid, solver.integrator, solver.timestep, solver.guards
     visitor = _ForceSum(solver, [t for t in solver.terms if t.has_pair])
-    body_terms = [t for t in solver.terms if t.has_body]
+    particle_terms = [t for t in solver.terms if t.has_particle]
     finish_terms = [t for t in solver.terms if t.has_finish]
     Rates = solver.Rates
     p_support2 = solver.param_rows["support2"]
@@ -264,9 +264,9 @@ def force_body(solver):
                 integ.advance_wall(s, i, dt)
             elif s.Si[q.kind, i] == FLUID:
                 rates = Rates(acc=ti.Vector.zero(real, dim))  # other members zero-initialised
-                for t in ti.static(body_terms):
-                    ti.static(_traced(t.name, "body"))
-                    t.body(s, i, rates)
+                for t in ti.static(particle_terms):
+                    ti.static(_traced(t.name, "particle"))
+                    t.particle(s, i, rates)
                 grid.for_each_neighbour(s, i, s.Sv[q.position, i], s.params[p_support2], visitor, rates)
                 for t in ti.static(finish_terms):
                     ti.static(_traced(t.name, "finish"))

@@ -87,7 +87,7 @@ and the hooks it needs, ``ti.func`` methods the engine calls if the class define
     contribution of neighbour ``j`` to fluid particle ``i`` (``rij = x_i - x_j``,
     ``r = |rij|``, ``grad = grad_i W_ij``), added to the local accumulator ``rates``:
     ``rates.acc`` (dv/dt) and ``rates.d[self.r.<rate>]`` (e.g. ``self.r.d_density``);
-``body(s, i, rates)``
+``particle(s, i, rates)``
     a contribution that needs no neighbour (gravity);
 ``finish(s, i, rates)``
     called after every pair of particle i is summed, before the integrator reads the
@@ -136,7 +136,7 @@ import taichi as ti
 from ..engine.layout import FLUID, VARIABLE_H
 from ..messages import InputError
 
-HOOKS = ("pair", "body", "derive", "finish")
+HOOKS = ("pair", "particle", "derive", "finish")
 LAUNCHES = ("after_sort", "after_force")  # hooks returning a launch of the term's own
 
 
@@ -172,7 +172,7 @@ class Term:
     escape_advice = None
     # the hooks; a subclass defines those it needs as ti.func methods
     pair = None
-    body = None
+    particle = None
     derive = None
     finish = None
     after_sort = None  # (plain Python methods returning a ti.func body)
@@ -190,8 +190,8 @@ class Term:
         return type(self).pair is not None
 
     @property
-    def has_body(self) -> bool:
-        return type(self).body is not None
+    def has_particle(self) -> bool:
+        return type(self).particle is not None
 
     @property
     def has_derive(self) -> bool:

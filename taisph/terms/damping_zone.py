@@ -39,7 +39,7 @@ class DampingZone(Term):
             raise InputError(f"DampingZone: damping_rate must be >= 0 (1/s), got {self.values['damping_rate']!r}")
 
     @ti.func
-    def body(self, s: ti.template(), i, rates: ti.template()):
+    def particle(self, s: ti.template(), i, rates: ti.template()):
         dim = ti.static(rates.acc.n)
         start = ti.Vector([s.params[self.p.damping_start + d] for d in ti.static(range(dim))])
         direction = ti.Vector([s.params[self.p.damping_direction + d] for d in ti.static(range(dim))])

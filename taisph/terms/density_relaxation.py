@@ -60,7 +60,7 @@ class DensityRelaxation(Term):
         super().check(scene)
 
     @ti.func
-    def body(self, s: ti.template(), i, rates: ti.template()):
+    def particle(self, s: ti.template(), i, rates: ti.template()):
         # density_sum holds the particle's own density where its support is not full (rate 0)
         rates.d[self.r.d_density] += ((s.Ss[self.q.density_sum, i] - s.Ss[self.q.density, i])
                                       / s.params[self.p.relaxation_time])

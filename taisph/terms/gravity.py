@@ -49,6 +49,6 @@ class Gravity(Term):
         return "gravity" in self.values and self.values["gravity"] is not getattr(self, "_default", None)
 
     @ti.func
-    def body(self, s: ti.template(), i, rates: ti.template()):
+    def particle(self, s: ti.template(), i, rates: ti.template()):
         for d in ti.static(range(rates.acc.n)):
             rates.acc[d] += s.params[self.p.gravity + d]

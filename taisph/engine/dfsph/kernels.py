@@ -1,5 +1,5 @@
 """The kernel bodies of a DFSPH step (:mod:`.solver` has the method, its equations and
-the host side that iterates the solves): :class:`Bodies`, the kernels of one field set.
+the host side that iterates the solves): :class:`StepKernels`, the kernels of one field set.
 What one neighbour contributes to each sum is in :mod:`.visitors`.
 
 The choices of the method are compiled in (docs/dfsph.md, "The measured choices",
@@ -41,7 +41,7 @@ def _mean_over_chunks(x: ti.template(), slot: ti.template()):
     x.result[slot] = total / ti.max(fluid, 1.0)
 
 
-class Bodies:
+class StepKernels:
     """The kernel bodies of a DFSPH step on one field set (its pair list bound)."""
 
     def __init__(self, solver, extra):
@@ -266,7 +266,7 @@ class Bodies:
         p = self.p
         local = self.local
         visitor = NonPressure(solver)
-        body_terms = [t for t in solver.terms if t.has_body]
+        particle_terms = [t for t in solver.terms if t.has_particle]
         Rates = solver.Rates
         rho0_col = solver.eos.m.rho0
         has_shift = self.has_shift
@@ -275,9 +275,9 @@ class Bodies:
         def forces(s_mem: ti.template(), i, dt):
             s = ti.static(s_mem._replace(params=local(s_mem)))
             rates = Rates(acc=ti.Vector.zero(real, dim))
-            for t in ti.static(body_terms):
-                ti.static(kernels._traced(t.name, "body"))
-                t.body(s, i, rates)
+            for t in ti.static(particle_terms):
+                ti.static(kernels._traced(t.name, "particle"))
+                t.particle(s, i, rates)
             # the force limit of dt follows the body forces (gravity): the viscous
             # terms have their own limit, 0.125 h^2 / nu (timestep.py)
             acc2 = ti.cast(rates.acc.norm_sqr(), ti.f64)

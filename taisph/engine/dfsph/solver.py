@@ -95,7 +95,7 @@ from .chebyshev import Chebyshev
 # the runtime parameters of the solve, derived per scene (re-exported: the docstring above names them)
 from .parameters import (MIN_NEIGHBOURS, PARAMS, artificial_viscosity_nu, gradient_scale,  # noqa: F401
                          lattice_ratio, parameter_values, relaxation)
-from .kernels import CHUNKS, Bodies  # noqa: F401 (CHUNKS: the size of the error sums' field)
+from .kernels import CHUNKS, StepKernels  # noqa: F401 (CHUNKS: the size of the error sums' field)
 
 Extra = collections.namedtuple("Extra", "pairs part result")  # a field set's DFSPH fields (Solver.extra_fields)
 
@@ -149,8 +149,8 @@ def initial_kappa(scene):
     materials give their initial density (a case that starts in hydrostatic
     equilibrium gives rho0 g depth): the first solve's warm start. Without it the
     first step would have to build the whole pressure field from zero, which takes
-    a Jacobi iteration per kernel radius of depth and more (a 0.5 m tank at
-    dx = 0.025 did not converge in 100 iterations). Zero for walls and below zero."""
+    a Jacobi iteration per kernel radius of depth and more (docs/dfsph.md). Zero for
+    walls and below zero."""
     rho0 = np.array([m.rho0 for m in scene.materials])[scene.material]
     c0 = np.array([m.c0 for m in scene.materials])[scene.material]
     gamma = np.array([m.gamma for m in scene.materials])[scene.material]
@@ -208,17 +208,17 @@ class Stepper:
 
     def __init__(self, solver, fields, serial_sort: bool):
         self.fields = fields
-        bodies = Bodies(solver, fields.extra)
+        step = StepKernels(solver, fields.extra)
         make = solver.make_kernel
         args = fields.args
         self.sort = make(kernels.sort_body(solver, serial_sort))(args)
-        self.density = make(bodies.density())(args)
-        self.divergence_iteration = make(bodies.iteration(density=False))(args)
-        self.middle = make(bodies.middle())(args)
-        self.density_iteration = make(bodies.iteration(density=True))(args)
+        self.density = make(step.density())(args)
+        self.divergence_iteration = make(step.iteration(density=False))(args)
+        self.middle = make(step.middle())(args)
+        self.density_iteration = make(step.iteration(density=True))(args)
         # the first with the non-pressure forces (step 3) in the same walk of the pairs
-        self.first_density_iteration = make(bodies.iteration(density=True, first=True))(args)
-        self.final = make(bodies.final())(args)
+        self.first_density_iteration = make(step.iteration(density=True, first=True))(args)
+        self.final = make(step.final())(args)
         self.status, self.result = args.status, fields.extra.result
         self.params, self.dt_max_row = args.params, solver.param_rows["dt_max"]
         self.stats = Stats()  # the simulation's (bind): the stepper is cached with its pooled fields
