@@ -140,7 +140,8 @@ def test_the_courant_defaults_quoted_are_the_codes(dam_break):
     """--courant: the 2D and 3D dam breaks' own numbers, the engine's default and
     DFSPH's, as the step controls choose them; the known-limits text says the same."""
     import taisph
-    from taisph.engine.timestep import DFSPH_COURANT, Controls, controls_for
+    from taisph.engine.dfsph.method import DFSPH_COURANT
+    from taisph.engine.timestep import Controls, controls_for
 
     text = entry("--courant")
     assert controls_for(dam_break).courant == dam_break.courant

@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from ..engine.layout import WALL
-from ..engine.timestep import DFSPH_COURANT, DFSPH_FORCE_FACTOR, SETTABLE, Controls
+from ..engine.dfsph.method import DFSPH_COURANT, DFSPH_FORCE_FACTOR
+from ..engine.timestep import SETTABLE, Controls
 from ..messages import InputError
 from ..scene import catalogue
 from ..scene.names import INTEGRATORS, KERNELS, SOLVERS

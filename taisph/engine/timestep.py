@@ -36,8 +36,6 @@ from . import solvers
 from . import status as st
 from ..scene import parameters
 from .layout import VARIABLE_H
-# the command line's help quotes them
-from .dfsph.method import DFSPH_COURANT, DFSPH_FORCE_FACTOR  # noqa: F401
 
 TINY = 1e-30  # a limit whose maximum is zero (no flow, no force, no viscosity) imposes none (f32-safe)
 
