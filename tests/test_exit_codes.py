@@ -147,3 +147,22 @@ def test_simulation_set_refused_leaves_the_simulation_unchanged():
     sim.set(dt=1e-5, rho0=990.0)
     assert (sim.controls.dt, sim.scene.materials[0].rho0) == (1e-5, 990.0)
     sim.close()
+
+
+def test_an_abbreviated_option_is_refused_not_guessed(tmp_path, capsys):
+    """``--frame 3`` is not taken for ``--frames 3`` (issue 50): argparse's prefix matching
+    is off, so a misspelt option is refused as input (exit 2) and the run never starts."""
+    code = cli.main(["dam_break", "--dx", "0.1", "--frame", "3", "--out", str(tmp_path / "out"), "--no-progress"])
+    assert code == 2 and "unrecognized arguments: --frame 3" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_closed_simulation_says_so():
+    """After close(): reading, stepping, running or setting says the simulation was closed
+    (issue 50: positions() raised AttributeError on None)."""
+    sim = taisph.Simulation(taisph.cases.hydrostatic_tank(dx=0.1))
+    sim.step(1)
+    sim.close()
+    for call in (sim.density, lambda: sim.step(1), lambda: sim.run(0.01), lambda: sim.set(alpha=0.1)):
+        with pytest.raises(RuntimeError, match="this simulation was closed"):
+            call()

@@ -22,6 +22,13 @@ class UsageError(InputError):
 
 
 class Parser(argparse.ArgumentParser):
+    """argparse with the project's errors, and no abbreviated options: ``--frame`` is not
+    silently taken for ``--frames`` (an option is spelled out, or refused)."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
+
     def error(self, message):
         hint = f"usage: {self.usage}" if self.usage else f"{self.prog} --help lists the options and their ranges"
         raise UsageError(f"{message}\n{hint}")

@@ -22,10 +22,18 @@ class Readout:
     simulation's ``state``, ``solver``, ``steps`` and ``time``)."""
 
     # --- state as numpy, in particle-id order ------------------------------------
+    def open_state(self):
+        """The device state, or a clear error if :meth:`close` freed it."""
+        if getattr(self, "state", None) is None:
+            raise RuntimeError("this simulation was closed (Simulation.close freed its state): read what you need "
+                               "before closing it, or build a new Simulation")
+        return self.state
+
     def _arrays(self):
         """All stored quantities as numpy, in particle-id order (cached per step)."""
         key = (self.steps, self.time)
         if self._snapshot_key != key:
+            self.open_state()
             self._snapshot = self.state.to_numpy()
             self._snapshot_key = key
         return self._snapshot

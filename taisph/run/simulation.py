@@ -122,6 +122,7 @@ class Simulation(Readout):
         """Change runtime parameters, e.g. ``sim.set(alpha=0.05, gravity=(0, -1))``: the
         scene's (:meth:`taisph.Scene.set`) and the :class:`Controls` fields (``dt``,
         ``max_density_error``...). No kernel is recompiled."""
+        self.open_state()
         control_keys = {f.name for f in fields(Controls)} - {"deterministic"}
         controls = {key: values.pop(key) for key in control_keys & set(values)}
         try:
@@ -202,6 +203,7 @@ class Simulation(Readout):
 
     def step(self, n: int = 1, dt: float | None = None):
         """Advance `n` steps: of `dt` if given, else of the fixed or adaptive step."""
+        self.open_state()
         if dt is not None:
             self._upload_parameters(dt=dt)
         try:
@@ -239,6 +241,7 @@ class Simulation(Readout):
         :class:`SimulationError` after writing the last good state and the offending
         particles to `out`.
         """
+        self.open_state()
         from .vtk import VTKWriter
 
         t_end = self.scene.t_end if t_end is None else float(t_end)
