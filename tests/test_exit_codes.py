@@ -166,3 +166,17 @@ def test_a_closed_simulation_says_so():
     for call in (sim.density, lambda: sim.step(1), lambda: sim.run(0.01), lambda: sim.set(alpha=0.1)):
         with pytest.raises(RuntimeError, match="this simulation was closed"):
             call()
+
+
+@pytest.mark.parametrize("inside", [False, True])
+def test_an_output_folder_that_cannot_be_made_is_refused_first(tmp_path, capsys, inside):
+    """``--out`` naming a file, or a folder inside a file, is refused as input (exit 2, the
+    path and why) before the kernels compile (issue 50: FileExistsError / NotADirectoryError
+    after the compilation, exit 1)."""
+    blocker = tmp_path / "results.txt"
+    blocker.write_text("not a folder")
+    out = blocker / "run" if inside else blocker
+    code = cli.main(["dam_break", "--dx", "0.1", "--out", str(out), "--no-progress"])
+    err = capsys.readouterr().err
+    assert code == 2 and f"--out {out}: " in err and "is a file, not a folder" in err
+    assert blocker.read_text() == "not a folder"

@@ -14,6 +14,7 @@ import argparse
 import collections
 import dataclasses
 import inspect
+import os
 import sys
 import time
 from pathlib import Path
@@ -273,8 +274,28 @@ def probe_writers(probes, walls, out) -> list:
 
 
 def probe_folder(scene, args) -> Path:
-    """Where a run writes its probes: ``--out``, default ``out/NAME``, also with ``--no-output``."""
-    return args.out or Path("out") / scene.name
+    """Where a run writes its probes: ``--out``, default ``out/NAME``, also with ``--no-output``;
+    refused before anything is compiled if it cannot be a folder (:func:`folder_problem`)."""
+    folder = Path(args.out) if args.out else Path("out") / scene.name
+    problem = folder_problem(folder)
+    if problem:
+        raise InputError(f"--out {folder}: {problem}")
+    return folder
+
+
+def folder_problem(folder: Path) -> str | None:
+    """Why `folder` cannot be made or written to (a file where a folder must be, a parent
+    that is a file or not writable), or None. Nothing is created."""
+    if folder.exists() and not folder.is_dir():
+        return "is a file, not a folder"
+    parent = folder
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        return f"{parent} is a file, not a folder"
+    if not os.access(parent, os.W_OK | os.X_OK):
+        return f"{parent} cannot be written to"
+    return None
 
 
 def output_folder(scene, args) -> Path | None:
