@@ -120,8 +120,6 @@ class Solver:
         self.kernel = smoothing.make(scene.kernel, self.dim)
         self.sigma = self.kernel.sigma(self.dim)
         self.method = method = solvers.of(scene)
-        for name in solvers.METHODS:  # solver.<name>: is this the method of that name? (the probes ask)
-            setattr(self, name, name == method.name)
         terms = method.terms(scene)
         eos = method.eos(scene)
         integ = self._lay_out(scene, terms, eos)

@@ -162,7 +162,7 @@ def _wall_force(solver):
     rows = solver.param_rows
     p_inv_h, p_grad_norm = rows["inv_h"], rows["grad_norm"]
     force_terms = [t for t in solver.terms if t.name in FORCE_TERMS and t.has_pair]
-    dfsph = solver.dfsph  # its pressure force on a wall: dfsph_pressure_force
+    dfsph = solver.method.name == "dfsph"  # its pressure force on a wall: dfsph_pressure_force
     p_gravity = rows.get("gravity", -1)
     p_scale = rows.get("dfsph_gradient_scale", -1)  # DFSPH's pressure force factor (engine/dfsph/parameters.py)
     Rates = solver.Rates

@@ -114,9 +114,7 @@ class ExtrapolatedPressure(_Model):
 
     @ti.func
     def pressure(self, s: ti.template(), at: ti.template(), velocity_model: ti.template(), v):
-        p = s.Ss[self.q.pressure, at.i]
-        if at.fitted:
-            p = at.p_fluid
+        p = at.p_fluid  # (the particle's own pressure where no fluid was fitted)
         if ti.static(velocity_model.prescribed):
             p = at.p_fluid + self.impedance(s, at.i) * (v - at.v_fluid).dot(at.normal)
         return p
