@@ -218,6 +218,7 @@ class State:
         status = np.zeros(self.solver.status_size)
         status[st.DT_MIN] = status[st.DT_STABLE_MIN] = np.inf
         status[st.FORCE_REBUILD] = 1.0
+        status[st.END_TIME] = np.inf  # no end until a run sets one (Simulation.run)
         for t in self.solver.terms:
             for name, value in t.initial_status().items():
                 status[t.slot._asdict()[name]] = value

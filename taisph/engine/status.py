@@ -30,7 +30,11 @@ REBUILDS = 14
 # step longer than needed (it cannot know the adaptive dt ahead), and the launch must do
 # nothing at all, or the last state would depend on how the batches fell (timing)
 IDLE = 15
-STATUS_SIZE = 16  # the engine's own; a configuration's terms get theirs after (slots())
+# the time the run ends at (taisph.Simulation.run; infinite for Simulation.step): the only
+# time a step is shortened to land on. Output times are not: a launch reaching one goes
+# idle instead (IDLE), so that how often a run is looked at cannot change its trajectory
+END_TIME = 16
+STATUS_SIZE = 17  # the engine's own; a configuration's terms get theirs after (slots())
 
 # ``flags`` (i32): guard failures (taisph.engine.guards) and removed particles
 CODES = 0  # OR of the failure bits below

@@ -211,8 +211,9 @@ class TimeStep:
         if dt <= 0.0:
             dt = ti.min(dt_stable, ti.cast(s.params[p.dt_max], ti.f64))
         remaining = t_target - status[st.TIME]
-        # Idle: the target was reached by an earlier launch of this batch. (The bootstrap,
-        # a zero-length step before any step, is not idle: it evaluates the first rates.)
+        # Idle: the target (an output time, or the end) was reached by an earlier launch of
+        # this batch. (The bootstrap, a zero-length step before any step, is not idle: it
+        # evaluates the first rates.)
         idle = s.flags[st.CODES] == 0 and remaining <= 0.0 and status[st.STEPS] > 0.0
         status[st.IDLE] = 1.0 if idle else 0.0
         if idle:
@@ -221,10 +222,15 @@ class TimeStep:
             if s.flags[st.CODES] != 0:  # a guard tripped: freeze the state for the diagnosis
                 dt = 0.0
                 status[st.FROZEN] = 1.0
-            if dt > remaining:
-                dt = ti.max(remaining, 0.0)
-            elif dt < remaining < 1.5 * dt:
-                dt = 0.5 * remaining  # two equal steps instead of a sliver before the target
+            elif remaining <= 0.0:  # the bootstrap
+                dt = 0.0
+            # Only the run's end shortens a step, never an output time (frames, probes,
+            # checkpoints): the trajectory does not depend on how often it is looked at
+            to_end = status[st.END_TIME] - status[st.TIME]
+            if dt > to_end:
+                dt = ti.max(to_end, 0.0)
+            elif dt < to_end < 1.5 * dt:
+                dt = 0.5 * to_end  # two equal steps instead of a sliver before the end
             status[st.DT] = dt
             status[st.DT_STABLE] = dt_stable
             if dt > 0.0:

@@ -14,7 +14,8 @@ A checkpoint folder holds three files, no pickle:
     by class name with their parameters and options: :mod:`taisph.scene.serialize`),
     ``controls`` (the :class:`taisph.engine.timestep.Controls` fields), ``runtime``
     (``arch``, ``precision``), ``grid`` (``lo``, ``cell``, ``shape``), ``serial_sort``, and
-    ``run``: where the run was going (``t_end``, ``frames_left``, ``out``, ``writer``: the
+    ``run``: where the run was going (``t_end``, ``frames_left``, ``output_times``: the
+    output times left, where the run's writers are called, or null; ``out``, ``writer``: the
     ParaView writer's next ``frame`` and its index ``entries``, [time, part, file name]),
     and what the command line needs to go on as it was (``checkpoint_every``, ``probes``:
     the :class:`taisph.probes.Probe` fields, ``wall_groups``: {name: particle ids}).
@@ -45,8 +46,8 @@ from ..scene.serialize import SceneDataError, plain, scene_from_data, scene_to_d
 
 FORMAT = "taisph-checkpoint"
 # 1-3: meta.pickle (2: neighbour lists saved; 3: the engine's parameter layout of taisph 0.2);
-# 4: meta.json and scene.npz, no pickle
-SCHEMA = 4
+# 4: meta.json and scene.npz, no pickle; 5: the run's end time in the device status (END_TIME)
+SCHEMA = 5
 FILES = ("meta.json", "state.npz", "scene.npz")
 
 
@@ -98,17 +99,27 @@ def probe_from_data(data: dict) -> Probe:
     return Probe(**data)
 
 
+def wall_ids(group, n: int) -> np.ndarray:
+    """A wall group's particle ids: `group` ids, a boolean mask, or a slice or range of the
+    `n` particle ids (a scene file's groups)."""
+    if isinstance(group, (slice, range)):
+        return np.arange(n)[group]
+    group = np.asarray(group)
+    return np.flatnonzero(group) if group.dtype == bool else group.astype(int)
+
+
 def meta_of(sim, t_end=None, frames_left=None, writer=None, checkpoint_every=None, probes=None,
-            wall_groups=None) -> tuple[dict, dict]:
+            wall_groups=None, output_times=None) -> tuple[dict, dict]:
     """``(meta, scene arrays)`` of `sim` and its run (see the module docstring)."""
     scene, scene_arrays = scene_to_data(sim.scene)
     grid = sim.state.grid
-    run = dict(t_end=t_end, frames_left=frames_left, out=str(writer.folder) if writer is not None else None,
+    run = dict(t_end=t_end, frames_left=frames_left, output_times=output_times,
+               out=str(writer.folder) if writer is not None else None,
                writer=dict(frame=writer.frame, entries=writer.entries) if writer is not None else None,
                checkpoint_every=checkpoint_every,
                probes=[probe_to_data(p) for p in probes] if probes is not None else None,
-               wall_groups={k: np.asarray(v).tolist() for k, v in wall_groups.items()} if wall_groups is not None
-               else None)
+               wall_groups={k: wall_ids(v, sim.scene.n).tolist() for k, v in wall_groups.items()}
+               if wall_groups is not None else None)
     meta = dict(format=FORMAT, schema=SCHEMA, taisph=taisph_version(), scene=scene,
                 controls={f.name: getattr(sim.controls, f.name) for f in dataclasses.fields(sim.controls)},
                 runtime=dict(arch=sim.runtime.arch, precision=sim.runtime.precision),
@@ -117,12 +128,12 @@ def meta_of(sim, t_end=None, frames_left=None, writer=None, checkpoint_every=Non
 
 
 def save(sim, folder, t_end=None, frames_left=None, writer=None, checkpoint_every=None, probes=None,
-         wall_groups=None) -> Path:
+         wall_groups=None, output_times=None) -> Path:
     """Write `sim`'s complete state to `folder` (see the module docstring); `writer` is
     the run's :class:`taisph.run.vtk.VTKWriter`, `probes` its :class:`taisph.probes.Probe`
     list and `wall_groups` the particle ids of the wall groups they name."""
     folder = Path(folder)
-    meta, scene_arrays = meta_of(sim, t_end, frames_left, writer, checkpoint_every, probes, wall_groups)
+    meta, scene_arrays = meta_of(sim, t_end, frames_left, writer, checkpoint_every, probes, wall_groups, output_times)
     tmp = folder.with_name(folder.name + ".tmp")
     if tmp.exists():
         shutil.rmtree(tmp)
@@ -148,6 +159,9 @@ def check_folder(folder) -> dict:
     checked; :class:`CheckpointError` (one line) for anything else."""
     folder = Path(folder)
     redo = "resume it with the taisph that wrote it ({}), or rerun"
+    old = folder.with_name(folder.name + ".old")
+    if not folder.exists() and old.is_dir() and (old / "meta.json").exists():
+        os.replace(old, folder)  # interrupted between save's two renames: the last complete one
     if not folder.is_dir():
         raise NoCheckpoint(f"{folder}: no such folder" if not folder.exists() else f"{folder} is not a folder")
     if not (folder / "meta.json").exists():
@@ -239,9 +253,12 @@ class CheckpointWriter:
     :meth:`taisph.Simulation.run`), recording `every_frames` as the run's
     ``checkpoint_every`` and its `probes` and `wall_groups` (see :func:`save`)."""
 
-    def __init__(self, folder, every_frames: int, t_end: float, frames: int, frame_writer=None, probes=None,
+    def __init__(self, folder, every_frames: int, t_end: float, frames, frame_writer=None, probes=None,
                  wall_groups=None):
-        self.folder, self.every_frames, self.t_end, self.frames = Path(folder), every_frames, t_end, frames
+        # frames: how many, or the run's output times (then those left are saved: output_times)
+        self.output_times = list(frames) if not isinstance(frames, int) else None
+        self.frames = frames if isinstance(frames, int) else len(self.output_times)
+        self.folder, self.every_frames, self.t_end = Path(folder), every_frames, t_end
         self.frame_writer, self.probes, self.wall_groups = frame_writer, probes, wall_groups
 
     def on_start(self, sim):
@@ -249,5 +266,7 @@ class CheckpointWriter:
 
     def on_frame(self, sim, k: int):
         if (k + 1) % self.every_frames == 0:
+            left = self.output_times[k + 1:] if self.output_times is not None else None
             save(sim, self.folder, t_end=self.t_end, frames_left=max(self.frames - k - 1, 0), writer=self.frame_writer,
-                 checkpoint_every=self.every_frames, probes=self.probes, wall_groups=self.wall_groups)
+                 checkpoint_every=self.every_frames, probes=self.probes, wall_groups=self.wall_groups,
+                 output_times=left)

@@ -206,6 +206,7 @@ class Simulation(Readout):
         self.open_state()
         if dt is not None:
             self._upload_parameters(dt=dt)
+        self.state.write(st.END_TIME, math.inf)  # no end to shorten a step for
         try:
             self._advance(math.inf, max_steps=n)
         finally:
@@ -226,20 +227,25 @@ class Simulation(Readout):
             )
 
     def run(self, t_end=None, frames=None, out=None, progress=False, callback=None,
-            checkpoint_every: int | None = None, writers=(), _writer_state=None) -> RunSummary:
+            checkpoint_every: int | None = None, writers=(), _writer_state=None, _output_times=None) -> RunSummary:
         """Advance to `t_end` (default: the scene's), writing `frames` VTK frames (plus
         the initial one, when starting from t = 0; 0: that one only) to the folder `out`.
 
-        Steps are shortened where needed so that frames land exactly on
-        ``t0 + (t_end - t0) k / frames``. At every such output time the run's writers
-        are called: the ParaView frames (if `out`), `callback(sim)`, a checkpoint to
+        The output times are ``t0 + (t_end - t0) k / frames``; the last step is shortened
+        to land exactly on `t_end`, no other: the writers are called at the first step
+        that reaches each output time, with that step's own time (``sim.time``, at most
+        one step later), so that how often a run is looked at (frames, probes, checkpoints,
+        callbacks) never changes its trajectory: bit for bit with ``deterministic=True``.
+        At every output time the run's writers are called: the ParaView frames (if
+        `out`), `callback(sim)`, a checkpoint to
         ``out/checkpoint`` every `checkpoint_every` frames
         (:func:`taisph.run.checkpoint.save`), and any further `writers` (objects with
         ``on_start(sim)`` and ``on_frame(sim, k)``; one with an ``every`` attribute also
         gets ``on_steps(sim)`` after every `every` steps, e.g. probes, which read the
         clock with :meth:`device_time`). A tripped guard raises
         :class:`SimulationError` after writing the last good state and the offending
-        particles to `out`.
+        particles to `out`. (`_output_times`: a resumed run's output times, those its
+        checkpoint had left, so that it writes where the uninterrupted run would.)
         """
         self.open_state()
         from .vtk import VTKWriter
@@ -249,12 +255,16 @@ class Simulation(Readout):
         if frames < 0:
             raise ValueError(f"frames must be at least 0, got {frames}")
         t0 = self.time  # frames = 0: t_end is the one output time (writers called), no frame written there
-        frame_times = [t0 + (t_end - t0) * (k + 1) / frames for k in range(frames)] or [t_end]
+        frame_times = [t0 + (t_end - t0) * (k + 1) / frames for k in range(frames - 1)] + [t_end]
+        if _output_times is not None and len(_output_times) == frames and _output_times[-1] == t_end:
+            frame_times = [float(t) for t in _output_times]
+        if t_end > self.time:  # else (a finished run) nothing is stepped: the end stays as it was
+            self.state.write(st.END_TIME, t_end)
         self._out = Path(out) if out is not None else None
         frame_writer = VTKWriter(out, self, resume=_writer_state, initial_only=frames == 0) if out is not None else None
         run_writers = [w for w in (frame_writer,) if w is not None]
         if checkpoint_every and out is not None:
-            run_writers.append(CheckpointWriter(Path(out) / "checkpoint", checkpoint_every, t_end, frames,
+            run_writers.append(CheckpointWriter(Path(out) / "checkpoint", checkpoint_every, t_end, frame_times,
                                                 frame_writer, *checkpoint.probes_of(writers)))
         run_writers += list(writers)
         self._step_writers = [w for w in run_writers if callable(getattr(w, "on_steps", None))]
