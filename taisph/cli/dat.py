@@ -23,6 +23,7 @@ from ..messages import InputError
 from ..scene.parameters import finite, positive, viscosity_alpha
 from ..scene import catalogue
 from ..terms import STANDARD_GRAVITY
+from .case import INTERRUPTED, interrupted
 from .parser import FRAMES, NON_NEGATIVE, POSITIVE, THREADS, Parser, UsageError, ranged, ranged_list
 
 RUN_USAGE = "python -m taisph run INIT [BOUNDARY] TFINAL DT INTEGRATOR KERNEL [options]"
@@ -87,7 +88,9 @@ def run_parser() -> Parser:
     g.add_argument("--name", help="name of the run and of its .pvd (default: INIT's file name)")
     g.add_argument("--precision", choices=["f32", "f64"], default="f64")
     g.add_argument("--threads", type=THREADS, help="CPU threads (>= 1, default: all cores)")
-    g.add_argument("--no-progress", action="store_true", help="no progress bar")
+    g.add_argument("--no-progress", action="store_true",
+                   help="no progress display (on a terminal a bar, else a line on stderr every 10 s; "
+                        "TAISPH_PROGRESS_EVERY sets the seconds)")
     return p
 
 
@@ -129,16 +132,22 @@ def run_main(argv) -> int:
         scene, energy = seed.load_scene(init, boundary, physics, dim=args.dim, kernel=kernel,
                                         integrator=integrator, dt=dt, t_end=t_end, frames=args.frames,
                                         name=args.name)
+        files = [init, boundary] if boundary else [init]
         return run_files(scene, energy, out=args.out, precision=args.precision, threads=args.threads,
-                         progress=not args.no_progress)
+                         progress=not args.no_progress, source=dict(seed_files=files))
     except InputError as err:  # SeedFileError, UsageError, ParameterError, a scene refused; others: a traceback
         print(f"taisph run: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as err:  # Ctrl-C: one line, where the run stopped (taisph.run.record.Interrupted)
+        print(f"taisph run: {interrupted(err)}", file=sys.stderr)
+        return INTERRUPTED
 
 
-def run_files(scene, energy, out=None, precision="f64", threads=None, progress=True) -> int:
-    """Simulate a scene from files and write ``OUT/fluid.dat`` and ParaView frames;
-    return the exit code (1: the run was unstable)."""
+def run_files(scene, energy, out=None, precision="f64", threads=None, progress=True, source=None) -> int:
+    """Simulate a scene from files and write ``OUT/fluid.dat``, ParaView frames and
+    ``OUT/run.json`` (:mod:`taisph.run.record`; `source`: the files); return the exit code
+    (1: the run was unstable)."""
+    from ..run.record import RunRecord, scene_entry
     from ..run.simulation import Simulation, SimulationError
 
     print(scene.describe())
@@ -157,18 +166,22 @@ def run_files(scene, energy, out=None, precision="f64", threads=None, progress=T
         writer.write(s.time, s.positions()[fluid], s.velocities()[fluid], s.masses()[fluid], s.density()[fluid],
                      s.pressure()[fluid], energy, index=ids)
 
-    with seedio.OutputWriter(out / "fluid.dat") as writer:
+    run = dict(t_end=scene.t_end, frames=scene.frames, out=out)
+    rec = RunRecord(out, sim, scene_entry(scene, **(source or {})), run, can_checkpoint=False)
+    with rec, seedio.OutputWriter(out / "fluid.dat") as writer:
         write_frame(sim)
         try:
             summary = sim.run(scene.t_end, frames=scene.frames, out=out, progress=progress, callback=write_frame)
         except SimulationError as err:  # a guard tripped: frames so far are kept
+            rec.finish("stopped by a guard: " + str(err).splitlines()[0])
             print(f"taisph run: {err}", file=sys.stderr)
             print("taisph run: the run was unstable; try a smaller DT (see the stability table in "
                   "docs/seed.md)", file=sys.stderr)
             return 1
+        problems = seed.health(sim)
+        rec.finish(f"unstable: {'; '.join(problems)}" if problems else "done", summary)
     print(f"done: {summary}; seed output {out / 'fluid.dat'} ({writer.frames} frames); "
           f"open {out / (scene.name + '.pvd')} in ParaView")
-    problems = seed.health(sim)
     if problems:
         print(f"taisph run: warning: the run was unstable ({'; '.join(problems)}); try a smaller DT "
               "(see the stability table in docs/seed.md)", file=sys.stderr)

@@ -10,8 +10,17 @@ from ..formats.scenefile import load
 from ..formats.scenefile_spec import SceneFileError, read, tomllib
 from ..messages import InputError
 from ..scene import catalogue
-from .case import build_parser, command_line_probes, guarded, probe_folder, probe_notes, probe_writers, simulate
+from .case import (build_parser, command_line_probes, first_sentence, guarded, list_entry, probe_folder, probe_notes,
+                   probe_writers, simulate)
 
+EPILOG = """\
+examples:
+  python -m taisph dam_break_probes_2d.toml                 # a scene file shipped in cases/
+  python -m taisph my_scene.toml --dx 0.01 --t-end 1 --out run1
+  python -m taisph my_scene.toml --set physics.alpha=0.05 --checkpoint-every 5   # Ctrl-C, then:
+  python -m taisph resume out/NAME/checkpoint
+Open OUT/NAME.pvd in ParaView (File > Open, Apply) to see the time series; python -m taisph OUT
+says how OUT was made (OUT/run.json)."""
 
 
 def list_scene_files(out=None):
@@ -25,10 +34,10 @@ def list_scene_files(out=None):
     for f in files:
         try:
             spec = read(f)
-            about = spec.description.splitlines()[0] if spec.description else spec.name
+            about = first_sentence(spec.description) if spec.description else spec.name
         except SceneFileError as err:
             about = f"(does not load: {err})"
-        print(f"  {f.name:<{width}}  {about}", file=out)
+        print(list_entry(f.name, width, about), file=out)
 
 
 def _set_value(text: str):
@@ -52,6 +61,7 @@ def _main(argv) -> int:
     parser.description = ("Run a scene file (schema: docs/scenes.md). The options below replace the file's values "
                           "where they apply; --set KEY=VALUE sets any key of the file, as TOML: "
                           "--set physics.alpha=0.05, --set 'fluid[0].velocity=[1.0, 0.0]'.")
+    parser.epilog = EPILOG
     args = parser.parse_args(argv)
     return run_file(catalogue.find_scene_file(args.case[0]), args)
 
@@ -78,7 +88,8 @@ def run_file(path: Path, args) -> int:
     notes += probe_notes(probes, folder)
     try:
         return simulate(scene, args, t_end=settings.t_end, frames=settings.frames, notes=notes, writers=writers,
-                        controls={**settings.controls, **({"courant": settings.courant} if settings.courant else {})})
+                        controls={**settings.controls, **({"courant": settings.courant} if settings.courant else {})},
+                        source=dict(scene_file=str(path), settings=overrides))
     finally:
         for writer in writers:
             writer.close()

@@ -1,46 +1,128 @@
-"""Progress of a run: a rich bar with simulated time, steps/s and ETA while it runs, and
-the summary of what it did."""
+"""Progress of a run, on standard error: a rich bar with simulated time, steps/s and ETA
+on a terminal; elsewhere (a log file, a pipe, a batch queue) a plain line every few
+seconds (:data:`EVERY_VARIABLE`); and the summary of what the run did."""
 
 from __future__ import annotations
 
+import math
+import os
+import sys
 import time
+import warnings
 from dataclasses import dataclass
+
+from ..messages import TaisphWarning
+
+# seconds between plain progress lines (stderr not a terminal); the first comes after at most FIRST
+EVERY = 10.0
+FIRST = 2.0
+EVERY_VARIABLE = "TAISPH_PROGRESS_EVERY"  # the environment's choice of EVERY (seconds, > 0)
+
+
+def line_interval(every: float | None = None) -> float:
+    """Seconds between plain lines: `every`, else the environment's :data:`EVERY_VARIABLE`,
+    else :data:`EVERY`; a variable that is not a number > 0 is named in a warning."""
+    if every is not None:
+        return float(every)
+    text = os.environ.get(EVERY_VARIABLE, "").strip()
+    if not text:
+        return EVERY
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        warnings.warn(f"{EVERY_VARIABLE}={text!r} is not a number of seconds > 0; progress every {EVERY:g} s",
+                      TaisphWarning, stacklevel=3)
+        return EVERY
+    return value
+
+
+def clock(seconds: float) -> str:
+    """``1:05`` or ``2:01:05`` (hours)."""
+    seconds = max(0, int(round(seconds)))
+    hours, rest = divmod(seconds, 3600)
+    return f"{hours}:{rest // 60:02d}:{rest % 60:02d}" if hours else f"{rest // 60}:{rest % 60:02d}"
+
+
+def plain_line(t0: float, t_end: float, t: float, steps: int, elapsed: float, description: str = "simulating") -> str:
+    """One line of progress: simulated time of the end time, steps, steps/s, wall time
+    elapsed and left (estimated from the simulated time's rate so far)."""
+    span = t_end - t0
+    done = (t - t0) / span if span > 0 else 1.0
+    rate = steps / elapsed if elapsed > 0 else 0.0
+    left = elapsed * (1 - done) / done if done > 0 else math.inf
+    left_text = f"about {clock(left)} left" if math.isfinite(left) else "time left unknown yet"
+    return (f"{description}: t = {t:.6g} / {t_end:.6g} s ({100 * done:.1f} %), {steps} steps, {rate:.0f} steps/s, "
+            f"{clock(elapsed)} elapsed, {left_text}")
+
+
+def is_terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError, OSError):  # no isatty, or a closed stream
+        return False
 
 
 class Progress:
-    """Context manager; ``update(t, steps)`` is cheap enough to call every step
-    (the display refreshes at most ten times a second)."""
+    """Context manager; ``update(t, steps)`` is cheap enough to call every step (the bar
+    refreshes at most ten times a second, a plain line comes every `every` seconds).
 
-    def __init__(self, t0: float, t_end: float, enabled: bool = True, description: str = "simulating"):
+    The display goes to `stream` (default ``sys.stderr``): a rich bar if it is a
+    terminal, else plain lines (:func:`plain_line`), the first after ``min(FIRST,
+    every)`` seconds, then every `every` seconds (:func:`line_interval`). `enabled`
+    False: nothing at all."""
+
+    def __init__(self, t0: float, t_end: float, enabled: bool = True, description: str = "simulating",
+                 every: float | None = None, stream=None):
         self.enabled = enabled
         self.t0, self.t_end = t0, t_end
         self.description = description
+        self.every, self.stream = every, stream
+        self.plain = False
         self._next = 0.0
 
     def __enter__(self):
-        if self.enabled:
-            from rich.progress import (BarColumn, Progress as RichProgress, TextColumn, TimeElapsedColumn,
-                                       TimeRemainingColumn)
+        if not self.enabled:
+            return self
+        stream = sys.stderr if self.stream is None else self.stream
+        self._start = time.perf_counter()
+        self.plain = not is_terminal(stream)
+        if self.plain:
+            self._stream, self.every = stream, line_interval(self.every)
+            self._next = self._start + min(FIRST, self.every)
+            return self
+        from rich.console import Console
+        from rich.progress import (BarColumn, Progress as RichProgress, TextColumn, TimeElapsedColumn,
+                                   TimeRemainingColumn)
 
-            self._bar = RichProgress(
-                TextColumn("[bold]{task.description}"),
-                BarColumn(),
-                TextColumn("t = {task.fields[t]:.4f} / {task.total:.4g} s"),
-                TextColumn("{task.fields[rate]:>7.0f} steps/s"),
-                TimeElapsedColumn(),
-                TextColumn("ETA"),
-                TimeRemainingColumn(),
-                transient=False,
-            )
-            self._bar.__enter__()
-            self._task = self._bar.add_task(self.description, total=self.t_end, completed=self.t0, t=self.t0, rate=0.0)
-            self._start = time.perf_counter()
+        self._bar = RichProgress(
+            TextColumn("[bold]{task.description}"),
+            BarColumn(),
+            TextColumn("t = {task.fields[t]:.4f} / {task.total:.4g} s"),
+            TextColumn("{task.fields[rate]:>7.0f} steps/s"),
+            TimeElapsedColumn(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+            transient=False,
+            console=Console(file=stream),
+        )
+        self._bar.__enter__()
+        self._task = self._bar.add_task(self.description, total=self.t_end, completed=self.t0, t=self.t0, rate=0.0)
         return self
 
     def update(self, t: float, steps: int, force: bool = False):
+        """`t`: the simulated time now; `steps`: steps since the run began. `force`: refresh
+        the bar now (a plain line still waits for its time)."""
         if not self.enabled:
             return
         now = time.perf_counter()
+        if self.plain:
+            if now >= self._next:
+                self._next = now + self.every
+                print(plain_line(self.t0, self.t_end, t, steps, now - self._start, self.description),
+                      file=self._stream, flush=True)
+            return
         if now < self._next and not force:
             return
         self._next = now + 0.1
@@ -48,7 +130,7 @@ class Progress:
         self._bar.update(self._task, completed=t, t=t, rate=rate)
 
     def __exit__(self, *exc):
-        if self.enabled:
+        if self.enabled and not self.plain:
             self._bar.__exit__(*exc)
         return False
 

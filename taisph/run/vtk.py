@@ -13,9 +13,10 @@ Points always have three coordinates (z = 0 in 2D). Point arrays: ``velocity``
 (3 components), ``pressure``, ``density``, ``mass``, ``id`` (persistent: data is
 reordered by cell every step), ``material``, and any quantity the scene's terms list as an output (e.g. ``energy``).
 The time of each frame is in the
-``.pvd`` only. Every file is written under a temporary name and renamed, and the
-index is rewritten after each frame, so an interrupted run leaves whole files and
-an index that opens.
+``.pvd`` only. Every file is written under a temporary name and renamed (a temporary
+file an interruption leaves half-written is removed), and the index is rewritten, the
+same way, after each frame's files: an interrupted run (Ctrl-C, a guard) leaves whole
+files and an index that opens and lists only frames on disk.
 
 A new series (not a resumed one) first removes an earlier series of the same name from
 the folder: its frames ``<case>_NNNNN.vtu``, its ``<case>.pvd`` and the ``walls.vtu``
@@ -26,6 +27,7 @@ how many frames went.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 from pathlib import Path
@@ -41,6 +43,18 @@ def _points3(x: np.ndarray) -> np.ndarray:
     return out
 
 
+@contextlib.contextmanager
+def _replacing(tmp: Path, path: Path):
+    """Write `tmp` in the block, then rename it to `path`; if the block ends in an exception
+    (Ctrl-C included), `tmp` is removed and `path` left as it was."""
+    try:
+        yield
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
 def write_vtu(path: Path, positions, arrays: dict) -> None:
     """Write points with point arrays as a binary .vtu, atomically."""
     path = Path(path)
@@ -53,8 +67,8 @@ def write_vtu(path: Path, positions, arrays: dict) -> None:
         data[name] = values
     cells = [("vertex", np.arange(len(points), dtype=np.int64).reshape(-1, 1))]
     tmp = path.with_name(path.name + ".tmp")
-    meshio.write(str(tmp), meshio.Mesh(points, cells, point_data=data), file_format="vtu", binary=True)
-    os.replace(tmp, path)
+    with _replacing(tmp, path):
+        meshio.write(str(tmp), meshio.Mesh(points, cells, point_data=data), file_format="vtu", binary=True)
 
 
 def write_pvd(path: Path, entries) -> None:
@@ -64,11 +78,11 @@ def write_pvd(path: Path, entries) -> None:
              '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
              "  <Collection>"]
     for t, part, name in entries:
-        lines.append(f'    <DataSet timestep="{t:.10g}" group="" part="{part}" file={quoteattr(name)}/>')
+        lines.append(f'    <DataSet timestep="{float(t)!r}" group="" part="{part}" file={quoteattr(name)}/>')
     lines += ["  </Collection>", "</VTKFile>", ""]
     tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text("\n".join(lines))
-    os.replace(tmp, path)
+    with _replacing(tmp, path):
+        tmp.write_text("\n".join(lines))
 
 
 def read_pvd(path) -> list[tuple[float, int, str]]:
