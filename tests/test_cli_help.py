@@ -11,6 +11,7 @@ import types
 import pytest
 
 from taisph.cli import case as cli_case
+from taisph.cli import case_help
 from taisph.cli import main as cli
 from taisph.scene import catalogue, parameters
 
@@ -45,10 +46,10 @@ def test_the_coarser_example_builds():
 def test_every_parameter_has_a_meaning(name):
     """Each parameter's range is followed by what it is; a parameter the case's docstring
     defines with its unit (``name (unit): ...``) shows that definition."""
-    meanings = cli_case.parameter_meanings(name)
+    meanings = case_help.parameter_meanings(name)
     assert set(meanings) == set(catalogue.parameters(name))
     assert all(len(text) > 8 for text in meanings.values()), meanings
-    listing = cli_case.describe_parameters(name).splitlines()
+    listing = case_help.describe_parameters(name).splitlines()
     for p in catalogue.parameters(name).values():
         at = next(k for k, line in enumerate(listing) if line.startswith(f"  {p.name} = "))
         assert listing[at].rstrip().endswith(p.range.describe())
@@ -56,12 +57,12 @@ def test_every_parameter_has_a_meaning(name):
 
 
 def test_meanings_say_units():
-    dam = cli_case.parameter_meanings("dam_break")
+    dam = case_help.parameter_meanings("dam_break")
     assert "(m)" in dam["dx"] and "(s)" in dam["t_end"] and "(m/s" in dam["c0"] and "(m/s^2)" in dam["g"]
     assert "(m)" in dam["width"] and "(m/s" in dam["shifting"]
-    assert "(s)" in cli_case.parameter_meanings("wave_flume")["period"]
-    assert "(m/s^2)" in cli_case.parameter_meanings("poiseuille")["F"]
-    assert "(Pa)" in cli_case.parameter_meanings("cylinder")["p_background"]
+    assert "(s)" in case_help.parameter_meanings("wave_flume")["period"]
+    assert "(m/s^2)" in case_help.parameter_meanings("poiseuille")["F"]
+    assert "(Pa)" in case_help.parameter_meanings("cylinder")["p_background"]
 
 
 def test_a_docstring_line_defines_a_parameter(monkeypatch):
@@ -78,7 +79,7 @@ def test_a_docstring_line_defines_a_parameter(monkeypatch):
 
     case.ranges = {"dx": parameters.positive, "gap": parameters.positive, "frames": parameters.frame_count}
     monkeypatch.setitem(catalogue.registry(), "slot", case)
-    meanings = cli_case.parameter_meanings("slot")
+    meanings = case_help.parameter_meanings("slot")
     assert meanings["gap"] == "(m) the width of the slot between the plates"
     assert "--frames N also takes 0" in meanings["frames"]
 
@@ -107,7 +108,7 @@ def test_list_descriptions_end_on_whole_words(capsys):
 
 def test_a_long_description_wraps_at_words():
     words = "a description of a case that goes on well past the width of any terminal " * 3
-    lines = cli_case.list_entry("case", 10, words.strip(), columns=60).splitlines()
+    lines = case_help.list_entry("case", 10, words.strip(), columns=60).splitlines()
     assert len(lines) > 2 and all(len(line) <= 60 for line in lines)
     assert " ".join(" ".join(lines).split()[1:]) == " ".join(words.split())
 

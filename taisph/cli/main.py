@@ -20,7 +20,8 @@ from ..messages import InputError
 from ..messages import install as install_messages
 from ..scene import catalogue
 from ..run import record
-from .case import build_parser, first_sentence, guarded, list_entry, run_case
+from .case import build_parser, guarded, run_case
+from .case_help import first_sentence, list_entry
 from .parser import END_TIME, THREADS, Parser
 from .scenefile import list_scene_files
 

@@ -10,8 +10,8 @@ from ..formats.scenefile import load
 from ..formats.scenefile_spec import SceneFileError, read, tomllib
 from ..messages import InputError
 from ..scene import catalogue
-from .case import (build_parser, command_line_probes, first_sentence, guarded, list_entry, probe_folder, probe_notes,
-                   probe_writers, simulate)
+from .case import build_parser, command_line_probes, guarded, probe_folder, probe_notes, probe_writers, simulate
+from .case_help import first_sentence, list_entry
 
 EPILOG = """\
 examples:
