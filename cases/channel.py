@@ -101,3 +101,21 @@ def channel(
     scene.domain = (np.minimum(lo, below.min(axis=0) - dx), np.maximum(hi, below.max(axis=0) + [0.0, H + layers * dx]
                                                                        + dx))
     return scene
+
+
+def headline(sim, out) -> list:
+    """The flow rate Q (m^2/s per metre of depth) through the channel's middle cross-section
+    at the end (a flow probe, taisph.probes), against the steady parabola's
+    Q = 2/3 u_max H, u_max = H^2 (p_in - p_out) / (8 mu L); steady within 0.1 % after
+    7 time constants H^2 rho / (pi^2 mu) (2.8 s by default)."""
+    from taisph.probes import flow
+    from taisph.run.results import Result, sample_probes
+
+    p = sim.scene.case_parameters
+    H, L = p["H"], p["L"]
+    u_max = H**2 * (p["p_in"] - p["p_out"]) / (8.0 * p["mu"] * L)
+    tau = H**2 * p["rho0"] / (math.pi**2 * p["mu"])
+    q = sample_probes(sim, [flow("Q", at=(0.5 * L, 0.0), to=(0.5 * L, H))])["Q"]
+    note = f"through x = L/2 at t = {sim.time:.3g} s" + (
+        f"; the reference is the steady flow's (t >= {7 * tau:.2g} s)" if sim.time < 7 * tau else "")
+    return [Result("Q", q, "m^2/s", 2.0 / 3.0 * u_max * H, "steady plane Poiseuille flow", note)]

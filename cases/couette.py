@@ -32,3 +32,16 @@ def couette(
     return _channel("couette", dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_end, frames,
                     force=0.0, wall_speed=V0,
                     description=f"start-up Couette flow, L = {L:g} m, nu = {nu:g} m^2/s, V0 = {V0:g} m/s")
+
+
+def headline(sim, out) -> list:
+    """At the end, against Morris et al.'s (1997) series solution: the mean speed of the
+    particle row nearest the centre line, and max |u - u_exact| / V0 over the fluid
+    (poiseuille's :func:`channel_headline`)."""
+    from taisph.validation.references import analytic
+
+    from .poiseuille import channel_headline
+
+    p = sim.scene.case_parameters
+    L, nu, V0 = p["L"], p["nu"], p["V0"]
+    return channel_headline(sim, lambda y, t: analytic.couette_startup(y, t, L, nu, V0), abs(V0), L)

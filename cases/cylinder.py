@@ -158,3 +158,33 @@ def cylinder(
                      pressure("p_front", at=(x0 - 0.5 * DIAMETER, y0), every=every),
                      pressure("p_back", at=(x0 + 0.5 * DIAMETER, y0), every=every)]
     return scene
+
+
+def headline(sim, out) -> list:
+    """The drag and lift coefficients C_D = 2 F_x / (rho U^2 D), C_L = 2 F_y / (rho U^2 D)
+    (U the mean inflow speed) and the front-back pressure difference dp (Pa), against
+    Schaefer & Turek's 2D-1 values at re = 20 (REFERENCE_RE20; steady after ~4 s): means
+    over the last 2 s of OUT/probes.csv (the second half of a shorter run), or without
+    it the values at the end (taisph.validation.cylinder: the same definitions)."""
+    from taisph.run.results import Result, probe_table, sample_probes
+    from taisph.validation.cylinder import WINDOW, coefficients
+
+    re = sim.scene.case_parameters.get("re", 20.0)
+    table = probe_table(out, ("cylinder_x", "cylinder_y", "p_front", "p_back"))
+    if table is not None:
+        c = coefficients(table, re)
+        start = c["t"][-1] - min(WINDOW, 0.5 * (c["t"][-1] - c["t"][0]))
+        last = c["t"] >= start
+        note = f"mean over t in [{start:.3g}, {c['t'][-1]:.3g}] s of probes.csv"
+    else:
+        now = sample_probes(sim, [p for p in sim.scene.probes if p.name in ("cylinder", "p_front", "p_back")])
+        c = coefficients({k: np.array([v]) for k, v in now.items()}, re)
+        last, note = np.ones(1, bool), f"at t = {sim.time:.3g} s"
+    reference = REFERENCE_RE20 if re == 20.0 else {}
+    source = "Schaefer & Turek (1996), 2D-1" if reference else ""
+    if reference and sim.time < 4.0:
+        note += "; the reference is the steady flow's (t >= 4 s)"
+    mean = {k: float(np.mean(c[k][last])) for k in ("C_D", "C_L", "dp")}
+    return [Result("C_D", mean["C_D"], "1", reference.get("C_D"), source, note),
+            Result("C_L", mean["C_L"], "1", reference.get("C_L"), source, note),
+            Result("dp", mean["dp"], "Pa", reference.get("dp"), source, "p(0.15, 0.2) - p(0.25, 0.2), " + note)]

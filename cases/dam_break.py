@@ -1,5 +1,7 @@
 """2D dam break: a water column collapses in a tank (Martin & Moyce 1952; Koshizuka & Oka 1996)."""
 
+import math
+
 import numpy as np
 
 from taisph.scene import Material, Scene
@@ -207,3 +209,35 @@ def _dam_break(dim, dx, width, height, depth, tank_width, tank_height, alpha, c0
     else:
         scene.add_walls(box_walls(lo, tank_hi, dx / 2.0, vertical_axis=UP, open_top=not closed_top))
     return scene
+
+
+def headline(sim, out) -> list:
+    """The surge front Z = x_front / width and the residual column height H = h / height at
+    the end (x_front the largest fluid x plus dx/2; h the highest fluid y plus dx/2 within
+    0.1 width of the back wall), against Martin & Moyce's (1952) tables at the same
+    dimensionless time T = t sqrt(2 g / width) (front), tau = t sqrt(g / width) (height),
+    as taisph.validation.runs.dam_break reads them: a reference only for their column
+    (height = 2 width), within the tables' times, and for the front before it reaches the
+    far wall."""
+    from taisph.run.results import Result
+    from taisph.validation.runs import reference
+
+    p, dx, t = sim.scene.case_parameters, sim.scene.dx, sim.time
+    width, height, g = p["width"], p["height"], p["g"]
+    x = sim.positions()[sim.fluid]
+    front = (x[:, 0].max() + dx / 2) / width
+    near = x[:, 0] < 0.1 * width
+    column = (x[near, UP].max() + dx / 2) / height if near.any() else 0.0
+    source, results = "Martin & Moyce (1952)", []
+    for name, value, table, time, what in (
+            ("front", front, "martin_moyce_1952_surge_front_table.csv", t * math.sqrt(2 * g / width),
+             "x_front / width at T = t sqrt(2 g / width) = "),
+            ("column_height", column, "martin_moyce_1952_column_height_table.csv", t * math.sqrt(g / width),
+             "h / height at tau = t sqrt(g / width) = ")):
+        data = reference(table)[0]
+        within = math.isclose(height, 2 * width) and data[0, 0] <= time <= data[-1, 0]
+        if name == "front" and front * width >= p["tank_width"] - 2 * dx:
+            within, what = False, "the front has reached the far wall; " + what
+        results.append(Result(name, float(value), "1", float(np.interp(time, data[:, 0], data[:, 1])) if within
+                              else None, source if within else "", f"{what}{time:.3g}"))
+    return results

@@ -7,7 +7,7 @@ from taisph.scene.parameters import (checked, courant_number, diffusion_delta, e
 from taisph.scene.names import FORMULATIONS
 from taisph.terms import STANDARD_GRAVITY
 
-from .dam_break import WALL_MODELS, _dam_break
+from .dam_break import WALL_MODELS, _dam_break, headline  # noqa: F401 (its headline results: the 2D case's)
 
 
 @checked(dx=positive, width=positive, height=positive, depth=positive, tank_width=positive, tank_height=positive,

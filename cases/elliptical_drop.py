@@ -67,3 +67,18 @@ def elliptical_drop(
     # the tip speeds up to about 1.4 A0 R by t = 0.0076 s: leave room for it in the CFL step
     scene.dt = 0.2 * h / (c0 + 1.5 * A0 * R)
     return scene
+
+
+def headline(sim, out) -> list:
+    """The semi-major axis b at the end, R max|y|(t) / max|y|(0) (the cloud's extent along y
+    scaled by its initial extent), against Monaghan's ODE (taisph.validation.references.analytic;
+    taisph.validation.runs.elliptical_drop measures it so)."""
+    from taisph.run.results import Result
+    from taisph.validation.references import analytic
+
+    p = sim.scene.case_parameters
+    y0 = np.abs(sim.scene.position[:, 1]).max()
+    b = p["R"] * np.abs(sim.positions()[:, 1]).max() / y0
+    exact = analytic.elliptical_drop(sim.time, R=p["R"], A0=p["A0"])[1]
+    return [Result("b", float(b), "m", float(exact), "Monaghan (1994), the ODE of an inviscid drop",
+                   f"R max|y| / max|y|(0) at t = {sim.time:.3g} s")]

@@ -93,3 +93,18 @@ def _drop(scene, mask):
         setattr(scene, key, getattr(scene, key)[keep])
     for key, values in scene.quantities.items():
         scene.quantities[key] = np.asarray(values)[keep]
+
+
+def headline(sim, out) -> list:
+    """The box's draft at the end, the water level at the gauge (away from the box) less the
+    height of the box's bottom (its centre of mass minus box_height / 2; upright), against
+    Archimedes' box_density / 1000 x box_height."""
+    from taisph.run.results import Result, sample_probes
+
+    p = sim.scene.case_parameters
+    level = sample_probes(sim, [q for q in sim.scene.probes if q.name == "gauge"])["gauge"]
+    bottom = float(sim.bodies()["box"].position[UP]) - 0.5 * p["box_height"]
+    floats = p["box_density"] < RHO_WATER
+    return [Result("draft", level - bottom, "m", p["box_density"] / RHO_WATER * p["box_height"] if floats else None,
+                   "Archimedes" if floats else "",
+                   f"water level at the gauge less the box's bottom, at t = {sim.time:.3g} s")]

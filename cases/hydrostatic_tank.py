@@ -44,3 +44,25 @@ def hydrostatic_tank(
                       t_end, frames, "hydrostatic_tank", walls=walls, wall_friction=wall_friction, delta=delta or 0.0,
                       description=f"{width:g} m x {height:g} m of still water in an open-topped tank "
                                   "(walls on three sides)")
+
+
+def headline(sim, out) -> list:
+    """At the end: the mean pressure of the fluid's bottom row (Pa) against rho0 g (H - y)
+    there, and the rms of p - rho0 g (H - y) over rho0 g H, over the fluid deeper than a
+    kernel support (as taisph.validation.runs.hydrostatic_tank measures it at each sample)."""
+    import numpy as np
+
+    from taisph.run.results import Result
+
+    p, scene = sim.scene.case_parameters, sim.scene
+    rho0, g, H = scene.materials[0].rho0, p["g"], p["height"]
+    x, pressure = sim.positions()[sim.fluid], sim.pressure()[sim.fluid]
+    exact = rho0 * g * (H - x[:, 1])
+    bottom = x[:, 1] < x[:, 1].min() + 0.5 * scene.dx
+    deep = x[:, 1] < H - scene.support_radius
+    rms = float(np.sqrt(np.mean((pressure[deep] - exact[deep]) ** 2)) / (rho0 * g * H)) if deep.any() else np.nan
+    at = f"at t = {sim.time:.3g} s"
+    return [Result("p_bottom", float(pressure[bottom].mean()), "Pa", float(exact[bottom].mean()),
+                   "hydrostatic rho0 g (H - y)", f"mean over the fluid's bottom row, {at}"),
+            Result("p_rms_error", rms, "1", None, "",
+                   f"rms of p - rho0 g (H - y) over rho0 g H, deeper than a kernel support, {at}")]

@@ -79,3 +79,30 @@ def _channel(name, dx, L, nu, rho0, c0, h_factor, kernel, integrator, delta, t_e
     scene.add_walls(walls[walls[:, 1] < 0])
     scene.add_walls(walls[walls[:, 1] > L], velocity=(wall_speed, 0.0))
     return scene
+
+
+def headline(sim, out) -> list:
+    """At the end, against Morris et al.'s (1997) series solution of the start-up flow
+    (taisph.validation.references.analytic): the mean speed of the particle row nearest the
+    centre line, and max |u - u_exact| over the fluid over the steady centre-line speed
+    F L^2 / (8 nu) (taisph.validation.runs.poiseuille's error at each sample)."""
+    from taisph.validation.references import analytic
+
+    p = sim.scene.case_parameters
+    L, nu, F = p["L"], p["nu"], p["F"]
+    return channel_headline(sim, lambda y, t: analytic.poiseuille_startup(y, t, L, nu, F), F * L * L / (8 * nu), L)
+
+
+def channel_headline(sim, exact, u_ref: float, L: float) -> list:
+    """The headline of a start-up channel flow (poiseuille, couette): `exact(y, t)` the
+    series solution, `u_ref` the speed the error is measured in, L the channel's width."""
+    from taisph.run.results import Result
+
+    x, u = sim.positions()[sim.fluid], sim.velocities()[sim.fluid][:, 0]
+    row = np.abs(x[:, 1] - L / 2) <= np.abs(x[:, 1] - L / 2).min() + 0.25 * sim.scene.dx
+    y, at = float(x[row, 1].mean()), f"at t = {sim.time:g} s"
+    source = "Morris et al. (1997), series solution"
+    return [Result("u_centre", float(u[row].mean()), "m/s", float(exact(np.array([y]), sim.time)[0]), source,
+                   f"mean of the particle row at y = {y:.4g} m, {at}"),
+            Result("max_error", float(np.abs(u - exact(x[:, 1], sim.time)).max() / u_ref) if u_ref else math.nan,
+                   "1", None, "", f"max |u - u_exact| / {u_ref:.4g} m/s over the fluid, {at}")]

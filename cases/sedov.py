@@ -115,3 +115,15 @@ def shock_radius(sim, rho0: float = 1.0) -> float:
     half = 0.5 * (prof[k] + rho0)
     j = k + int(np.flatnonzero(prof[k:] < half)[0])
     return float(centres[j - 1] + (half - prof[j - 1]) * (centres[j] - centres[j - 1]) / (prof[j] - prof[j - 1]))
+
+
+def headline(sim, out) -> list:
+    """The blast's radius at the end (:func:`shock_radius`) against the similarity law
+    R = xi0 (E t^2 / rho0)^(1/4) (taisph.validation.references.sedov_taylor)."""
+    from taisph.run.results import Result
+    from taisph.validation.references.sedov_taylor import SedovTaylor
+
+    p = sim.scene.case_parameters
+    exact = SedovTaylor(p["gamma"], nu=2).radius(sim.time, p["energy"], p["rho0"])
+    return [Result("shock_radius", shock_radius(sim, p["rho0"]), "m", float(exact),
+                   "Sedov-Taylor similarity solution", f"at t = {sim.time:.3g} s")]

@@ -163,3 +163,32 @@ def compare(state: dict, problem, t: float, x0: float = 0.5) -> dict:
     out["rho_min"] = float(state["rho"].min())
     out["e_min"] = float(state["e"].min())
     return out
+
+
+def headline(sim, out) -> list:
+    """At the end, against the exact Riemann solution (taisph.validation.references.riemann,
+    :func:`compare`): the shock's position and the star region's pressure, and the mean
+    error of the density over the tube's particles (L1_rho; no reference: it is an error)."""
+    import math
+
+    from taisph.run.results import Result
+    from taisph.validation.references.riemann import RiemannProblem
+
+    p = sim.scene.case_parameters
+    problem = RiemannProblem(p["left"], p["right"], p["gamma"])
+    state = tube(sim, p["length"])
+    at, source = f"at t = {sim.time:.3g} s", "exact Riemann solution"
+    exact_rho = problem.sample(state["x"], sim.time, p["x0"])[0]
+    results = [Result("L1_rho", float(np.abs(state["rho"] - exact_rho).mean()), "kg/m^3", None, "",
+                      f"mean |rho - rho_exact| over the tube's particles, {at}")]
+    try:
+        errors = compare(state, problem, sim.time, p["x0"])
+    except (IndexError, ValueError):  # no shock resolved yet (a very short run)
+        return results
+    narrow = "; the star region is not yet 8 smoothing lengths wide" if math.isnan(errors["p_star"]) else ""
+    results.append(Result("p_star", errors["p_star"], "Pa", problem.p_star, source,
+                          f"mean over the star region, {at}{narrow}"))
+    if "shock" in errors:
+        results.append(Result("shock", errors["shock"], "m", errors["shock_exact"], source,
+                              f"where rho falls half way to the right state, {at}"))
+    return results

@@ -112,3 +112,41 @@ def expected(depth=0.14, height=0.05, g=STANDARD_GRAVITY) -> dict:
     t_c = motion.duration / 2
     return dict(celerity=c, stroke=motion.stroke, duration=motion.duration, t_c=t_c,
                 crest_times=tuple(t_c + (x - motion.stroke / 2) / c for x in GAUGES))
+
+
+def headline(sim, out) -> list:
+    """From the gauges' records in OUT/probes.csv: the crest height at each gauge (its
+    highest sample's parabola's top, less the depth) against H, and the celerity between
+    them (their distance over the crests' times' difference) against sqrt(g (h + H))
+    (tests/test_solitary_wave.py measures them so). A crest counts once the record has
+    passed it; without probes.csv, nothing."""
+    from taisph.run.results import Result, probe_table
+
+    p = sim.scene.case_parameters
+    names = [f"g{k + 1}" for k in range(len(GAUGES))]
+    table = probe_table(out, names)
+    if table is None:
+        return []
+    crests = [_crest(table["time"], table[name] - p["depth"], p["height"]) for name in names]
+    source = "Boussinesq (1872), Goring (1978)"
+    results = [Result(f"crest_{name}", top, "m", p["height"], source,
+                      f"at x = {x:g} m, t = {t:.3g} s" if math.isfinite(t) else "the crest has not passed by the end")
+               for name, x, (t, top) in zip(names, GAUGES, crests)]
+    (t1, _), (t2, _) = crests[0], crests[-1]
+    celerity = (GAUGES[-1] - GAUGES[0]) / (t2 - t1) if math.isfinite(t1 + t2) and t2 > t1 else math.nan
+    results.append(Result("celerity", celerity, "m/s", math.sqrt(p["g"] * (p["depth"] + p["height"])), source,
+                          f"between {names[0]} and {names[-1]}"))
+    return results
+
+
+def _crest(t, eta, height) -> tuple:
+    """(time, height) of the crest of `eta`: its highest sample and its neighbours' parabola's
+    top; (nan, nan) unless a wave of at least height / 2 has passed (the record goes on
+    after its highest sample)."""
+    k = int(np.nanargmax(eta))
+    if not 0 < k < len(eta) - 1 or not eta[k] >= 0.5 * height:
+        return math.nan, math.nan
+    y0, y1, y2 = eta[k - 1:k + 2]
+    curve = y0 - 2 * y1 + y2
+    s = 0.5 * (y0 - y2) / curve if curve else 0.0  # the vertex, in samples from k (|s| <= 1/2)
+    return float(t[k] + s * (t[k + 1] - t[k])), float(y1 - 0.25 * (y0 - y2) * s)

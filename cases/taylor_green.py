@@ -82,3 +82,23 @@ def taylor_green(
     u, v, p = analytic.taylor_green(pts[:, 0], pts[:, 1], 0.0, U=U, L=L, nu=nu, rho=rho0)
     scene.add_fluid(pts, velocity=list(zip(u, v)), density=tait.density(p, rho0, c0, 7.0))
     return scene
+
+
+def headline(sim, out) -> list:
+    """At the end, against the exact decaying vortex (taisph.validation.references.analytic):
+    the largest speed, against U exp(-8 pi^2 nu t / L^2), and PySPH's L1 speed error,
+    mean ||v| - |v_exact|| / mean |v_exact| (as taisph.validation.runs.taylor_green)."""
+    import numpy as np
+
+    from taisph.run.results import Result
+
+    p = sim.scene.case_parameters
+    U, L, nu = p["U"], p["L"], p["U"] * p["L"] / p["Re"]
+    x, v = sim.positions(), sim.velocities()
+    ue, ve, _ = analytic.taylor_green(x[:, 0], x[:, 1], sim.time, U=U, L=L, nu=nu, rho=p["rho0"])
+    speed, exact = np.hypot(v[:, 0], v[:, 1]), np.hypot(ue, ve)
+    at, source = f"at t = {sim.time:.3g} s", "Taylor & Green (1937), exact decay"
+    return [Result("max_speed", float(speed.max()), "m/s", U * math.exp(-8 * math.pi**2 * nu * sim.time / L**2),
+                   source, at),
+            Result("L1_speed_error", float(np.mean(np.abs(speed - exact)) / np.mean(exact)), "1", None, "",
+                   f"mean ||v| - |v_exact|| / mean |v_exact|, {at}")]

@@ -127,3 +127,16 @@ def expected(dx=0.005, tank_width=1.0, depth=0.5, diameter=0.11, density=500.0) 
     draft = 0.5 * (lo + hi)
     return dict(particles=n, area=area, radius=r, mass=density * area, submerged=submerged, level=level,
                 draft=draft, centre=level - draft + r)
+
+
+def headline(sim, out) -> list:
+    """The cylinder's centre height at the end against where it floats at rest (Archimedes,
+    :func:`expected`: reached after the plunge and the bobbing have died out)."""
+    from taisph.run.results import Result
+
+    p = sim.scene.case_parameters
+    rest = expected(p["dx"], p["tank_width"], p["depth"], p["diameter"], p["density"])
+    centre = float(sim.bodies()["cylinder"].position[1])
+    return [Result("centre_height", centre, "m", rest["centre"] if p["density"] < RHO_WATER else None,
+                   "Archimedes, floating at rest" if p["density"] < RHO_WATER else "",
+                   f"the cylinder's centre above the floor at t = {sim.time:.3g} s")]

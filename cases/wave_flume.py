@@ -132,3 +132,30 @@ def expected(depth=0.5, height=0.04, period=1.5, g=STANDARD_GRAVITY) -> dict:
     celerity = 2 * math.pi / k / period
     return dict(k=k, wavelength=2 * math.pi / k, kh=kh, ratio=ratio, stroke=height / ratio, celerity=celerity,
                 group=0.5 * celerity * (1 + 2 * kh / math.sinh(2 * kh)))
+
+
+def headline(sim, out) -> list:
+    """From the gauges' records in OUT/probes.csv: the wave height at each gauge (the mean
+    crest-to-trough height over the whole periods between the full wave train's arrival and
+    the far wall's reflection: taisph.validation.waves) against the target H (first-order
+    wave-maker theory). A gauge whose window holds no whole period by the end reads nothing;
+    without probes.csv, nothing."""
+    from taisph.run.results import Result, probe_table
+    from taisph.validation.waves import wave_height, window
+
+    p = sim.scene.case_parameters
+    names = [f"g{k + 1}" for k in range(len(GAUGES))]
+    table = probe_table(out, names)
+    if table is None:
+        return []
+    t = table["time"]
+    results = []
+    for name, x in zip(names, GAUGES):
+        start, end = window(x, p["period"], p["depth"], p["ramp"], p["length"], float(t[-1]), bool(p["absorber"]),
+                            p["g"])
+        value = wave_height(t, table[name], start, end, p["period"]) if end > start else math.nan
+        note = (f"at x = {x:g} m, mean over t in [{start:.3g}, {end:.3g}] s" if end > start else
+                f"at x = {x:g} m: no whole period between the full wave train's arrival ({start:.3g} s) and the "
+                f"record's end ({t[-1]:.3g} s) or the far wall's reflection")
+        results.append(Result(f"height_{name}", value, "m", p["height"], "first-order wave-maker theory", note))
+    return results

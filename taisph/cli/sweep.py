@@ -11,24 +11,24 @@ from ..messages import InputError
 from .case import CONTROLS
 from .parser import Parser, UsageError
 
-EPILOG = """\
-Each combination of the --vary values is one run in a Dask worker process: by default a
-LocalCluster of --workers processes started here (one per core, each run using its share
-of the cores), or an existing cluster with --scheduler tcp://host:port (started with
-`dask scheduler` and `dask worker tcp://host:port --nworkers N --nthreads 1`).
+DESCRIPTION = ("python -m taisph sweep CASE --vary NAME=v1,v2,... --out DIR: a parameter sweep on a Dask "
+               "cluster, one run per combination of the values (docs/sweeps.md).")
 
-Names: any case parameter (CASE --help; a scene file's: dx, t_end, frames, integrator, kernel,
-h_factor, alpha, delta, xsph, its values the defaults), the run settings precision, threads, dt (a value
-or none), courant, neighbour_skin, max_density_error, deterministic, remove_escaped and, for
-validation runs, the validation's keywords (dt_factor, T_end, samples, ...).
-
-A case with a reference (dam_break, hydrostatic_tank, poiseuille, couette, taylor_green,
-elliptical_drop) runs its validation: the error column is measured against the reference.
---no-validate makes plain runs to the scene's t_end instead.
-
-DIR/sweep.csv and DIR/sweep.md get a row as each run finishes; run again with the same
-options to resume (done combinations are skipped).
-
+# the help's closing paragraphs (filled to the terminal's width, the lists from the code), then its examples
+PARAGRAPHS = (
+    "Each combination of the --vary values is one run in a Dask worker process: by default a LocalCluster of "
+    "--workers processes started here (one per core, each run using its share of the cores), or an existing "
+    "cluster with --scheduler tcp://host:port (started with `dask scheduler` and `dask worker tcp://host:port "
+    "--nworkers N --nthreads 1`).",
+    "Names: any case parameter (CASE --help; a scene file's: {scene_names}, its values the defaults), the run "
+    "settings {settings} and, for validation runs, the validation's keywords (dt_factor, T_end, samples, ...).",
+    "A case with a reference ({validations}) runs its validation: the error column is measured against the "
+    "reference. --no-validate makes plain runs to the scene's t_end instead.",
+    "DIR/sweep.csv and DIR/sweep.md get a row as each run finishes; run again with the same options to resume "
+    "(done combinations are skipped). A sweep that stops before any run finished (no cluster, Ctrl-C) leaves no "
+    "table; a folder whose runs all failed takes another sweep.",
+)
+EXAMPLES = """\
 examples:
   python -m taisph sweep hydrostatic_tank --vary dx=0.1,0.05 --vary kernel=spline,wendland --t-end 0.5 --out sweeps/tank
   python -m taisph sweep dam_break --vary dx=0.1,0.05 --set T_end=1 --workers 2 --out sweeps/db
@@ -37,26 +37,77 @@ examples:
   python -m taisph sweep poiseuille --vary dx=1e-4,5e-5 --scheduler tcp://10.0.0.5:8786 --out sweeps/p"""
 
 
-def build_parser() -> Parser:
+def _fill(text: str) -> str:
+    """`text` wrapped between words to the terminal's width (as argparse wraps the options' help)."""
+    import shutil
+    import textwrap
+
+    width = max(40, min(100, shutil.get_terminal_size().columns - 2))
+    return textwrap.fill(text, width, break_long_words=False, break_on_hyphens=False)
+
+
+def _epilog() -> str:
+    """The help's closing paragraphs with the lists the code holds (the cases with a
+    reference, the run settings, a scene file's parameters), then the examples."""
+    from ..formats.scenefile import SWEEP_KEYS
+    from ..scene import catalogue
+    from ..sweeps.plan import SETTINGS
+    from ..validation import VALIDATIONS
+
+    references = [name for name in VALIDATIONS if name in catalogue.registry()]  # the cases among them
+    lists = dict(validations=", ".join(references), settings=", ".join(SETTINGS), scene_names=", ".join(SWEEP_KEYS))
+    return "\n\n".join([*(_fill(p.format(**lists)) for p in PARAGRAPHS), EXAMPLES])
+
+
+def _this_case(case: str | None) -> dict:
+    """``"; this case: VALUE"`` per option a case or scene file sets (its default scene's
+    values, as ``CASE --help`` shows them), or "" each without a case or for one that
+    does not build."""
+    import collections
+
+    from .case import _case_defaults
+
+    if case is None:
+        return collections.defaultdict(str)
+    from ..sweeps import plan
+
+    try:
+        factory = plan.resolve_case(case)
+        scene = factory()
+        if getattr(factory, "courant", None) is not None:  # a scene file's Courant number (a control)
+            scene.courant = factory.courant
+    except Exception:  # an unknown case or a broken file: the general help
+        return collections.defaultdict(str)
+    return _case_defaults(scene)
+
+
+def build_parser(case: str | None = None) -> Parser:
     """The sweep's options (a :class:`taisph.cli.parser.Parser`: bad usage raises
-    UsageError, printed by :func:`main` with exit code 2)."""
-    parser = Parser(prog="python -m taisph sweep", description=__doc__.splitlines()[0][:-1] + ".",
-                                     epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    UsageError, printed by :func:`main` with exit code 2); with `case` (``sweep CASE
+    --help``), its help shows the values that case runs with."""
+    from ..engine.dfsph.method import DFSPH_COURANT
+    from ..scene import Scene
+    from ..sweeps.plan import DEFAULT_PRECISION
+
+    this = _this_case(case)
+    parser = Parser(prog="python -m taisph sweep", description=_fill(DESCRIPTION), epilog=_epilog(),
+                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("case", help="case name (python -m taisph list), or a scene file SCENE.toml")
     parser.add_argument("--vary", action="append", default=[], metavar="NAME=v1,v2,...",
                         help="values of one parameter or setting; repeatable: the runs are the product")
     g = parser.add_argument_group("every run (as for a single run: python -m taisph CASE --help)")
-    g.add_argument("--dx", help="particle spacing (m)")
-    g.add_argument("--t-end", help="simulated end time (s)")
-    g.add_argument("--frames", help="frames of each run (they fix the times steps land on; "
-                                    "written only with --frames-per-run)")
-    g.add_argument("--integrator", help="time integrator")
-    g.add_argument("--kernel", help="smoothing kernel")
+    g.add_argument("--dx", help=f"particle spacing (m); default: the case's{this['dx']}")
+    g.add_argument("--t-end", help=f"simulated end time (s); default: the case's{this['t_end']}")
+    g.add_argument("--frames", help="frames of each run (they fix the times steps land on; written only with "
+                                    f"--frames-per-run); default: the case's{this['frames']}")
+    g.add_argument("--integrator", help=f"time integrator; default: the case's{this['integrator']}")
+    g.add_argument("--kernel", help=f"smoothing kernel; default: the case's{this['kernel']}")
     g.add_argument("--dt", help="fixed time step (s); default: adaptive")
-    g.add_argument("--courant", help=f"Courant number of the adaptive step (default {CONTROLS['courant']:g}, or "
-                                     "the scene file's)")
-    g.add_argument("--precision", help="f32 or f64 (default f64)")
-    g.add_argument("--neighbour-skin", help="neighbour list skin (default 0: no lists)")
+    g.add_argument("--courant", help="Courant number of the adaptive step; default: the case's or scene file's "
+                                     f"own (sweep CASE --help shows it), else {CONTROLS['courant']:g}; DFSPH "
+                                     f"{DFSPH_COURANT:g}{this['courant']}")
+    g.add_argument("--precision", help=f"f32 or f64 (default {DEFAULT_PRECISION})")
+    g.add_argument("--neighbour-skin", help=f"neighbour list skin (default {Scene.neighbour_skin:g}: no lists)")
     g.add_argument("--max-density-error", help="guard: stop when |rho/rho0 - 1| exceeds this (default "
                                                f"{CONTROLS['max_density_error']:g})")
     g.add_argument("--deterministic", action="store_true", help="bit-for-bit reproducible runs")
@@ -64,6 +115,12 @@ def build_parser() -> Parser:
     g.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="any case parameter; repeatable")
     g.add_argument("--no-validate", action="store_true",
                    help="plain runs to t_end even when the case has a reference (no error column)")
+    _cluster_options(parser)
+    return parser
+
+
+def _cluster_options(parser) -> None:
+    """The group "cluster and output"."""
     g = parser.add_argument_group("cluster and output")
     where = g.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, help="worker processes of the LocalCluster (default: one per core)")
@@ -73,7 +130,23 @@ def build_parser() -> Parser:
     g.add_argument("--frames-per-run", action="store_true", help="write each run's frames to DIR/<run name>/")
     g.add_argument("--retry-failed", action="store_true", help="on resume, run the failed combinations again")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
-    return parser
+
+
+def case_argument(argv) -> str | None:
+    """The CASE of a sweep's command line (its first positional word: not an option, nor
+    an option's value), or None: ``sweep CASE --help`` then shows that case's values."""
+    parser = build_parser()
+    takes_value = {o for a in parser._actions if a.option_strings and a.nargs != 0 for o in a.option_strings}
+    words = iter(argv)
+    for word in words:
+        if word == "--":
+            return next(words, None)
+        if word.startswith("-"):
+            if word in takes_value:
+                next(words, None)
+            continue
+        return word
+    return None
 
 
 def fixed_values(args) -> dict:
@@ -111,7 +184,7 @@ def main(argv) -> int:
     from ..sweeps import SweepError, plan, sweep
 
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser(case_argument(argv) if {"-h", "--help"} & set(argv) else None).parse_args(argv)
         before = _table_runs(args.out, args.retry_failed)
         vary = plan.parse_vary(args.vary)
         fixed = fixed_values(args)

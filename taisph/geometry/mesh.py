@@ -14,17 +14,22 @@ The particle generators built on it are in :mod:`taisph.geometry.fill`
 
 from __future__ import annotations
 
+import re
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..messages import InputError
+
 PAIRS_PER_CHUNK = 2_000_000  # point-cell pairs handled at once by the O(points x cells) sums
 
 
-class MeshError(ValueError):
-    """A mesh that cannot be used: unreadable, open, inconsistently oriented or empty."""
+class MeshError(InputError):
+    """A mesh that cannot be used: unreadable, truncated, open, inconsistently oriented or
+    empty (an :class:`taisph.messages.InputError`: one line naming the file and the
+    problem; exit code 2 on the command line)."""
 
 
 @dataclass(frozen=True)
@@ -136,6 +141,8 @@ def _read(source, name):
         name = name or str(source)
         if not path.is_file():
             raise MeshError(f"{name}: no such mesh file")
+        if path.suffix.lower() == ".stl":
+            check_stl(path, name)  # a truncated file, named as such (meshio's own errors do not say)
         try:
             with warnings.catch_warnings():  # meshio's binary-STL size test overflows on ASCII files
                 warnings.filterwarnings("ignore", "overflow encountered", RuntimeWarning)
@@ -162,6 +169,79 @@ def _read(source, name):
         points = points[:-1]
     k = np.arange(len(points))
     return points, [("line", np.column_stack([k, np.roll(k, -1)]))], name or "<polygon>"
+
+
+STL_HEADER, STL_TRIANGLE = 84, 50  # a binary STL: 80 bytes, a uint32 count, then 50 bytes per triangle
+STL_FACET = ("facet normal", "outer loop", "vertex", "vertex", "vertex", "endloop", "endfacet")  # an ASCII facet
+
+
+def check_stl(path, name=None) -> None:
+    """Raise :class:`MeshError` (one line: the file and what is wrong) if the STL file
+    `path` is cut short or malformed: a binary file whose length is not its 84-byte
+    header's triangle count times 50 bytes, an ASCII file that ends inside a facet or
+    lacks ``endsolid``, or a line out of a facet's order."""
+    path = Path(path)
+    name = name or str(path)
+    data = path.read_bytes()
+    size = len(data)
+    count = int.from_bytes(data[80:84], "little") if size >= STL_HEADER else None
+    if count is not None and size == STL_HEADER + STL_TRIANGLE * count:
+        return  # binary, whole (even if its header starts with "solid")
+    text = data.decode("latin-1")
+    if re.search(r"[^\x20-\x7e\r\n\t]", text) is None and "\n" in text:  # lines of text, not a binary header
+        if text.lstrip()[:5].lower() == "solid":
+            return _check_ascii_stl(text.splitlines(), name)
+        raise MeshError(f"{name}: cannot read it as a mesh: a text file, but an ASCII STL starts with 'solid' "
+                        f"(got {text.strip()[:40]!r})")
+    if count is None:
+        raise MeshError(f"{name}: truncated: {size} bytes, shorter than the {STL_HEADER}-byte header of a binary STL")
+    whole, rest = divmod(size - STL_HEADER, STL_TRIANGLE)
+    if size < STL_HEADER + STL_TRIANGLE * count:
+        raise MeshError(f"{name}: truncated: the {STL_HEADER}-byte header says {count} triangles, the file has "
+                        f"{whole}" + (f" and {rest} bytes of another" if rest else "")
+                        + f" ({size} bytes of {STL_HEADER + STL_TRIANGLE * count})")
+    raise MeshError(f"{name}: the {STL_HEADER}-byte header says {count} triangles ({STL_HEADER + STL_TRIANGLE * count}"
+                    f" bytes), but the file has {size} bytes: not a binary STL, or a corrupt one")
+
+
+def _check_ascii_stl(lines, name) -> None:
+    """An ASCII STL's lines: ``solid``, facets of :data:`STL_FACET` (a vertex with three
+    numbers), ``endsolid``; :class:`MeshError` naming the line and the facet otherwise."""
+    state, facets, number = None, 0, 0  # state: index into STL_FACET of the next line, None outside a solid
+    last = max((k for k, line in enumerate(lines, 1) if line.strip()), default=0)
+    for number, line in enumerate(lines, 1):
+        words = line.split()
+        if not words:
+            continue
+        key = " ".join(words[:2] if words[0].lower() in ("facet", "outer") else words[:1]).lower()
+        if state is not None and state == 0 and key == "endsolid":
+            state = None
+            continue
+        problem = (("" if key == "solid" else "expected 'solid' (an ASCII STL)") if state is None else
+                   f"expected '{STL_FACET[state]}'" + (" or 'endsolid'" if state == 0 else "")
+                   if key != STL_FACET[state] else
+                   "" if key != "vertex" or _three_numbers(words[1:]) else "a vertex needs three numbers")
+        if problem and number == last:  # the last line, cut short
+            state = state or -1  # inside a facet
+            break
+        if problem:
+            raise MeshError(f"{name}: line {number} (facet {facets + 1}): {problem}, got {line.strip()[:40]!r}")
+        state = 0 if state is None else (state + 1) % len(STL_FACET)
+        facets += state == 0 and key == "endfacet"
+    else:
+        if state is None:
+            return
+    whole = f"{facets} whole facet{'s' * (facets != 1)}"
+    where = f"inside facet {facets + 1}" if state else f"after facet {facets} without 'endsolid'"
+    end = f"line {last}: {lines[last - 1].strip()[:40]!r}; " if last else ""
+    raise MeshError(f"{name}: truncated: the file ends {where} ({end}{whole})")
+
+
+def _three_numbers(words) -> bool:
+    try:
+        return len(words) == 3 and all(np.isfinite(float(w)) for w in words)
+    except ValueError:
+        return False
 
 
 def _cells(blocks, dim, name) -> np.ndarray:

@@ -85,6 +85,14 @@ def find(name: str):
     return cases[name]
 
 
+def case_module(name: str):
+    """The module of the built-in case `name` (``cases/<name>.py``: its function, and any
+    plug-ins it defines, e.g. ``headline``, :mod:`taisph.run.results`), or None if there is
+    no such case."""
+    func = registry().get(name)
+    return None if func is None else sys.modules.get(func.__module__)
+
+
 def parameters(case: str) -> dict[str, Parameter]:
     """The parameters of case `case`, in signature order."""
     func = find(case)

@@ -24,6 +24,7 @@ from ..eos import Tait
 from ..messages import InputError
 from ..terms.base import Term
 from .names import INTEGRATORS, KERNELS, SOLVERS
+from .parameters import check_runtime
 from .solvers import check_dfsph
 
 
@@ -47,6 +48,8 @@ class Material:
                 raise KeyError(f"materials have no constant {key!r} (rho0, c0, gamma)")
         trial = dataclasses.replace(self, **{key: _number(key, value) for key, value in values.items()})
         trial.check()
+        for key in values:
+            check_runtime(key, getattr(trial, key), f"material {self.name!r}")
         for key in values:
             setattr(self, key, getattr(trial, key))
 
@@ -156,6 +159,11 @@ class Scene:
     probes: list = field(default_factory=list)
     # moving and floating bodies (taisph.scene.bodies.Body), made by add_body
     bodies: list = field(default_factory=list)
+    # the built-in case that made the scene and the values of all its parameters (set by the
+    # case's @checked, taisph.scene.parameters; "" and {} for a scene made otherwise): what
+    # the case's headline results read (taisph.run.results)
+    case: str = ""
+    case_parameters: dict = field(default_factory=dict)
 
     def __post_init__(self):
         if self.dim not in (1, 2, 3):
@@ -266,9 +274,12 @@ class Scene:
         """Change parameters by name: ``smoothing_length``, any term's parameter (e.g.
         ``alpha``, ``gravity``), or a material constant (``rho0``, ``c0``, ``gamma``: of
         every material). Raises KeyError naming the unknown one, :class:`InputError` (a
-        ValueError, from :meth:`validate`) for a bad value. All the values are checked
-        together, on a copy, before any is written: a refused call leaves the scene as
-        it was."""
+        ValueError, from :meth:`validate`) for a bad value, and
+        :class:`taisph.scene.parameters.ParameterError` (an InputError) naming the
+        parameter, the value and the allowed range for a value outside the range the
+        command line and scene files allow (:data:`taisph.scene.parameters.RUNTIME`, e.g.
+        alpha in [0, 2]). All the values are checked together, on a copy, before any is
+        written: a refused call leaves the scene as it was."""
         by_param = {k: t for t in self.terms for k in t.params}
         for key in values:
             if key not in by_param and key not in CONSTANTS and key != "smoothing_length":
@@ -277,6 +288,8 @@ class Scene:
         values = {key: _number(key, v) if key in CONSTANTS or key == "smoothing_length" else v
                   for key, v in values.items()}
         self._with(values).validate()  # the scene as it would be; raises before anything is written
+        for key, value in values.items():  # and each value within its declared range
+            check_runtime(key, value, f"scene {self.name!r}")
         self._write(self, values)
 
     def _with(self, values: dict) -> "Scene":

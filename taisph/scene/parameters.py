@@ -25,6 +25,8 @@ import math
 import numbers
 import os
 
+import numpy as np
+
 from ..messages import InputError
 from .names import FORMULATIONS, INTEGRATORS, KERNELS, SOLVERS
 
@@ -167,6 +169,46 @@ particle_mass = Number(0, 1e11, low_open=True)
 particle_spacing = between(1e-6, 1e3)
 
 
+# The ranges of the scene's runtime parameters (:meth:`taisph.Scene.set`, ``sim.set``): each
+# term's parameters, by name (a vector's: each component's), the smoothing length and the
+# materials' constants, the same ranges the command line and scene files apply to the same
+# quantities. A term's parameter not listed here must be a finite number
+# (tests/test_bad_input_more.py holds every term's parameters listed).
+RUNTIME = {
+    "alpha": viscosity_alpha, "beta": Number(low=0), "eta_factor": Number(0, 1, low_open=True),
+    "delta": diffusion_delta, "xsph_eps": xsph_epsilon, "lattice_ratio": Number(0, 1e3, low_open=True),
+    "riemann_eta": Number(0, 100), "shift_speed": Number(0, 1e4), "shift_dx": particle_spacing,
+    "shift_cap": Number(0, 1), "damping_start": position_component, "damping_direction": position_component,
+    "damping_rate": Number(0, 1e6), "drain_lo": position_component, "drain_hi": position_component,
+    "relaxation_time": Number(0, 1e5, low_open=True), "contact_stiffness": Number(low=0),
+    "contact_damping": Number(low=0), "contact_distance": Number(0, 1e3), "lj_strength": Number(low=0),
+    "lj_cutoff": Number(0, 1e3, low_open=True), "alpha_u": Number(0, 10), "h_factor": smoothing_factor,
+    "gravity": gravity_component, "nu": Number(0, 100),
+    "smoothing_length": particle_spacing, "rho0": reference_density, "c0": speed_of_sound, "gamma": tait_exponent,
+}
+
+
+def check_runtime(name: str, value, owner: str = "") -> None:
+    """Raise :class:`ParameterError` naming `name`, `value` and the allowed range unless
+    `value` is allowed for the runtime parameter `name` (:data:`RUNTIME`; a number, or
+    for a vector parameter every component)."""
+    rng = RUNTIME.get(name, finite)
+    try:
+        scalar = np.ndim(value) == 0
+    except ValueError:  # a ragged sequence
+        scalar = False
+    if scalar:
+        rng.check(name, np.asarray(value).item() if isinstance(value, (np.generic, np.ndarray)) else value, owner)
+        return
+    try:
+        items = [float(v) for v in np.asarray(value, float).ravel()]
+    except (TypeError, ValueError):
+        items = []
+    if not items or not all(rng.accepts(v) for v in items):
+        where = f"{owner}: " if owner else ""
+        raise ParameterError(f"{where}{name} must have every component {rng.describe()}, got {value!r}")
+
+
 class OneOf(Range):
     """One of a few values (compared with ==; on a command line, by their text)."""
 
@@ -271,8 +313,11 @@ def checked(**ranges: Range):
     """Decorate a function whose every parameter has a declared range: each call is
     checked (defaults included) and raises :class:`ParameterError` naming the first
     parameter out of range. The ranges are kept as ``func.ranges`` (in signature order)
-    for ``--help`` and ``--set``. Declaring too few or too many parameters, or a
-    default outside its own range, is a programming error (TypeError at import)."""
+    for ``--help`` and ``--set``. A scene a built-in case (``cases/<name>.py``) returns
+    records the case's name and every parameter's value (``scene.case``,
+    ``scene.case_parameters``: what the case's headline results read,
+    :mod:`taisph.run.results`). Declaring too few or too many parameters, or a default
+    outside its own range, is a programming error (TypeError at import)."""
 
     def decorate(func):
         signature = inspect.signature(func)
@@ -286,6 +331,8 @@ def checked(**ranges: Range):
                 raise TypeError(f"@checked on {func.__name__}: the default {name}={p.default!r} is not "
                                 f"{ranges[name].describe()}")
 
+        is_case = func.__module__.rpartition(".")[0].endswith("cases")  # a built-in case: cases/<name>.py
+
         @functools.wraps(func)
         def wrapper(*args, **kwargs):
             try:
@@ -295,7 +342,10 @@ def checked(**ranges: Range):
             bound.apply_defaults()
             for name, value in bound.arguments.items():
                 ranges[name].check(name, value, func.__name__)
-            return func(*bound.args, **bound.kwargs)
+            result = func(*bound.args, **bound.kwargs)
+            if is_case and isinstance(getattr(result, "case", None), str):  # a Scene: the case that made it, how
+                result.case, result.case_parameters = func.__name__, dict(bound.arguments)
+            return result
 
         wrapper.ranges = {name: ranges[name] for name in names}
         return wrapper

@@ -41,7 +41,11 @@ def sweep(case: str, vary: dict | None = None, client=None, *, out=None, workers
     out            folder for ``sweep.csv``, ``sweep.md`` and ``sweep.json``, written
                    as runs finish; a sweep into a folder that already holds it skips
                    the combinations of its table (all of them, or with
-                   `retry_failed` only those that were ok). None: no files.
+                   `retry_failed` only those that were ok). A sweep that stops with an
+                   exception (no cluster, Ctrl-C) before any run finished leaves none
+                   of the three; a folder whose table holds no finished run takes a
+                   different sweep (its files replaced), one with results refuses it.
+                   None: no files.
     validate       each run is the case's validation (an ``error`` against its
                    reference; :mod:`taisph.validation`) or a plain run to the scene's
                    ``t_end``; default: validation when the case has a reference.
@@ -62,6 +66,7 @@ def sweep(case: str, vary: dict | None = None, client=None, *, out=None, workers
     tasks, validate = plan_tasks(case, vary, fixed, validate, str(folder) if folder else None, frames_per_run)
     varied = list(vary)
     done = []
+    created = folder is not None and not folder.exists()
     if folder is not None:
         folder.mkdir(parents=True, exist_ok=True)
         identity = dict(case=case, validate=validate, varied=varied, frames_per_run=frames_per_run,
@@ -78,14 +83,21 @@ def sweep(case: str, vary: dict | None = None, client=None, *, out=None, workers
         if folder is not None:
             table.write(folder, varied, rows, title)
 
-    if folder is not None:
-        table.write(folder, varied, rows, title)
-    if todo:
-        from .cluster import connect, run_tasks
+    try:
+        if folder is not None:
+            table.write(folder, varied, rows, title)
+        if todo:
+            from .cluster import connect, run_tasks
 
-        with connect(client, workers, scheduler, len(todo)) as (dask_client, threads):
-            run_tasks(todo, dask_client, threads, on_result=record, progress=progress,
-                      title=f"sweep {case}")
+            with connect(client, workers, scheduler, len(todo)) as (dask_client, threads):
+                run_tasks(todo, dask_client, threads, on_result=record, progress=progress,
+                          title=f"sweep {case}")
+    except BaseException:  # no cluster, an interruption...: a folder without a finished run is left empty
+        if folder is not None and not table.has_results(folder):
+            table.discard(folder)
+            if created and not any(folder.iterdir()):
+                folder.rmdir()
+        raise
     planned = {t.name for t in tasks}
     return [row for row in rows if row["run"] in planned]
 

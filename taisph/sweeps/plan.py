@@ -45,14 +45,16 @@ def _default_text(value) -> str:
     return "set by the solver" if value is None else f"{value:g}"
 
 
+DEFAULT_PRECISION = "f64"  # a run's float precision unless a sweep sets or varies it
+
 # Run settings: not case parameters but options of the simulation or of the runtime
 # (the same as the plain command's options). name -> (allowed range, what it is)
 SETTINGS = {
     "precision": (one_of("f32", "f64"), "float precision of the run"),
     "threads": (integer(at_least=1), "CPU threads of the run"),
     "dt": (optional(positive), "fixed time step (s); none: adaptive"),
-    "courant": (courant_number, f"Courant number of the adaptive step (default {Controls.courant:g}, or a scene "
-                                "file's)"),
+    "courant": (courant_number, "Courant number of the adaptive step (default: the case's or scene file's own, "
+                                f"else {Controls.courant:g})"),
     "neighbour_skin": (between(0, 2), "neighbour list skin (fraction of the support radius)"),
     "max_density_error": (at_least(0), "guard: stop when |rho/rho0 - 1| exceeds this (0: off)"),
     "deterministic": (flag, "serial cell sort: bit-for-bit reproducible runs"),
@@ -293,7 +295,7 @@ def plan_tasks(case: str, vary: dict, fixed: dict, validate: bool | None = None,
         combination = dict(zip(parsed_vary, values))
         everything = {**parsed_fixed, **combination}
         settings = {k: v for k, v in everything.items() if allowed[k].kind == "setting"}
-        settings.setdefault("precision", "f64")
+        settings.setdefault("precision", DEFAULT_PRECISION)
         if getattr(factory, "courant", None) is not None:  # a scene file's own Courant number
             settings.setdefault("courant", factory.courant)
         for key, value in getattr(factory, "controls", {}).items():  # and its other controls

@@ -4,7 +4,9 @@ Both tables are rewritten whole after every finished run, into a temporary file
 renamed over the old one, so a reader (or a sweep killed half-way) never sees a
 half-written row. ``sweep.json`` records what the sweep is (case, varied names,
 fixed values, validation or plain runs): a rerun into the same folder must be the
-same sweep, and then skips the combinations its table already holds.
+same sweep, and then skips the combinations its table already holds. A sweep that
+stops with an exception before any of its runs finished removes the three files
+again, and a folder whose table holds no finished run takes another sweep.
 """
 
 from __future__ import annotations
@@ -14,8 +16,10 @@ import io
 import json
 import math
 import os
+import warnings
 from pathlib import Path
 
+from ..messages import TaisphWarning
 from .plan import SweepError, value_text
 
 # the measured columns, after the run's name and its varied parameters
@@ -114,16 +118,44 @@ def _flat(identity: dict) -> dict:
     return flat
 
 
+FILES = ("sweep.csv", "sweep.md", "sweep.json")  # what a sweep writes into its folder (besides frames)
+
+
+def has_results(folder: Path) -> bool:
+    """Does DIR/sweep.csv hold a run that finished ("ok")? A table of failed runs only, or
+    none, holds nothing a rerun would keep that it could not remake."""
+    path = folder / "sweep.csv"
+    if not path.exists():
+        return False
+    with open(path, newline="") as f:
+        return any(row.get("status") == "ok" for row in csv.DictReader(f))
+
+
+def discard(folder: Path) -> None:
+    """Remove DIR/sweep.csv, sweep.md and sweep.json (and a temporary file left by a killed write)."""
+    for name in FILES:
+        (folder / name).unlink(missing_ok=True)
+        for tmp in folder.glob(f".{name}.*.tmp"):
+            tmp.unlink(missing_ok=True)
+
+
 def check_identity(folder: Path, identity: dict) -> None:
-    """Write DIR/sweep.json, or check that an earlier sweep into `folder` was this one."""
+    """Write DIR/sweep.json, or check that an earlier sweep into `folder` was this one. A
+    different sweep is refused while the folder holds results (:func:`has_results`); the
+    files of one without (every run failed, or none finished) are replaced, with a warning."""
     path = folder / "sweep.json"
     if path.exists():
         before = json.loads(path.read_text())
-        if before != identity:
+        if before != identity and not has_results(folder):
+            warnings.warn(f"{folder} held another sweep ({before.get('case')}) without a finished run; its "
+                          "sweep.csv, sweep.md and sweep.json are replaced", TaisphWarning, stacklevel=3)
+            discard(folder)
+        elif before != identity:
             was, now = _flat(before), _flat(identity)
             changed = sorted(k for k in set(was) | set(now) if was.get(k) != now.get(k))
             detail = "; ".join(f"{k}: was {was.get(k)!r}, now {now.get(k)!r}" for k in changed)
             raise SweepError(f"{folder} holds another sweep ({detail}); resume it with the same case and options, "
                              "or give another output folder")
-        return
+        else:
+            return
     _atomic_write(path, json.dumps(identity, indent=2, sort_keys=True) + "\n")
