@@ -98,6 +98,12 @@ def test_sim_set_refuses_what_the_command_line_refuses():
         sim.set(c0=1e9)
     with pytest.raises(ParameterError, match=r"material 'water': rho0 must be in \(0, 100000\], got 1000000.0"):
         sim.set_material(0, rho0=1e6)
+    dt, courant = sim.controls.dt, sim.controls.courant
+    with pytest.raises(ParameterError, match=r"simulation control: dt must be > 0, got -1"):
+        sim.set(dt=-1, alpha=0.05)  # a control refused: the scene's alpha is not changed either
+    with pytest.raises(ParameterError, match=r"courant must be in \(0, 1\], got 3"):
+        sim.set(courant=3)
+    assert (sim.controls.dt, sim.controls.courant) == (dt, courant)
     assert sim.parameters() == before and sim.scene.materials[0].rho0 == 1000.0
     assert RUNTIME["alpha"] is catalogue.parameters("hydrostatic_tank")["alpha"].range
     sim.set(alpha=0.05)

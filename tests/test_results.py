@@ -72,6 +72,7 @@ def test_a_scene_not_made_by_a_case_has_no_headline(tmp_path):
     assert report(scene, sim, tmp_path / "other") == [] and not (tmp_path / "other").exists()
     scene.case = ""
     assert report(scene, sim, tmp_path / "other") == []
+    assert report(scene, sim, tmp_path) == [] and not (tmp_path / "results.json").exists()  # not the last run's
     sim.close()
     from taisph.formats.scenefile import load
 

@@ -83,27 +83,28 @@ def test_local_cluster_runs_every_combination(tmp_path):
 
 
 def test_failed_run_is_a_row_and_the_others_finish(client, tmp_path):
-    """A fixed dt 50 times the stability limit trips the density guard: its row is
+    """A fixed dt 6 times the stability limit (1.6 ms) trips the density guard at step 8
+    (0.05 s, 2 steps to the end, trips nothing since no frame shortens a step): its row is
     'failed: ' + the first line of the same diagnosis a direct run gives; the stable
     combination finishes with a direct run's step count. A rerun keeps the failed row
     (no run); with retry_failed it runs that combination again, and only that one."""
     options = dict(client=client, out=tmp_path, validate=False, dx=0.1, t_end=0.1, progress=False)
-    rows = taisph.sweep(CASE, vary={"dt": [5e-4, 0.05]}, **options)
+    rows = taisph.sweep(CASE, vary={"dt": [5e-4, 0.01]}, **options)
     by_dt = {r["dt"]: r for r in rows}
     assert by_dt[5e-4]["status"] == "ok"
     assert by_dt[5e-4]["steps"] == direct(dx=0.1, t_end=0.1, dt=5e-4)[0]
     with pytest.warns(RuntimeWarning, match="above the stability limit"):
-        diagnosis = direct(dx=0.1, t_end=0.1, dt=0.05)
+        diagnosis = direct(dx=0.1, t_end=0.1, dt=0.01)
     assert diagnosis.startswith("simulation stopped at step")
-    assert by_dt[0.05]["status"] == "failed: " + diagnosis
+    assert by_dt[0.01]["status"] == "failed: " + diagnosis
     assert [r["status"] for r in read_csv(tmp_path)] == [r["status"] for r in rows]
 
-    again = taisph.sweep(CASE, vary={"dt": [5e-4, 0.05]}, **options)
+    again = taisph.sweep(CASE, vary={"dt": [5e-4, 0.01]}, **options)
     same = lambda rs: [(r["run"], repr(r["wall_s"]), r["worker"], r["status"]) for r in rs]  # noqa: E731 (NaN: repr)
     assert same(again) == same(rows)
-    retried = taisph.sweep(CASE, vary={"dt": [5e-4, 0.05]}, retry_failed=True, **options)
-    assert [r["run"] for r in retried] == ["dt=0.0005", "dt=0.05"]  # the ok row kept, the failed one run last
-    assert retried[0]["wall_s"] == by_dt[5e-4]["wall_s"] and retried[1]["status"] == by_dt[0.05]["status"]
+    retried = taisph.sweep(CASE, vary={"dt": [5e-4, 0.01]}, retry_failed=True, **options)
+    assert [r["run"] for r in retried] == ["dt=0.0005", "dt=0.01"]  # the ok row kept, the failed one run last
+    assert retried[0]["wall_s"] == by_dt[5e-4]["wall_s"] and retried[1]["status"] == by_dt[0.01]["status"]
     assert len(read_csv(tmp_path)) == 2
 
 

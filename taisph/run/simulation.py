@@ -20,8 +20,14 @@ from ..engine.timestep import Controls
 from . import checkpoint
 from .checkpoint import CheckpointWriter
 from ..messages import TaisphRuntimeWarning
+from ..scene import parameters
 from .progress import Progress, RunSummary
 from .readout import Readout
+
+# the ranges of the controls sim.set changes (as the command line's options check them)
+CONTROL_RANGES = {"dt": parameters.positive, "courant": parameters.courant_number,
+                  "max_density_error": parameters.Number(0), "max_out_of_range": parameters.Number(0, 1),
+                  **timestep.SETTABLE}
 
 # Below this many particles the sort pass runs serially: waking the thread pool
 # costs more than the work (measured, see docs/performance.md), and a serial
@@ -125,6 +131,9 @@ class Simulation(Readout):
         self.open_state()
         control_keys = {f.name for f in fields(Controls)} - {"deterministic"}
         controls = {key: values.pop(key) for key in control_keys & set(values)}
+        for key, value in controls.items():  # checked before anything is written, as the scene's
+            if value is not None and key in CONTROL_RANGES:
+                CONTROL_RANGES[key].check(key, value, "simulation control")
         try:
             self.scene.set(**values)  # checked before anything is written: a refusal changes nothing
         except KeyError as err:
