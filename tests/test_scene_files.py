@@ -571,12 +571,13 @@ def test_probes_are_written_whatever_the_frames(tmp_path, capsys):
     out = tmp_path / "none"
     assert cli([str(path), "--t-end", "0.002", "--out", str(out), "--no-output", "--no-progress"]) == 0
     assert f"probes to {out / 'probes.csv'}: bottom (pressure)" in capsys.readouterr().out
-    assert sorted(p.name for p in out.iterdir()) == ["probes.csv"]
+    assert sorted(p.name for p in out.iterdir()) == ["probes.csv", "probes.json", "run.json"]
     assert len((out / "probes.csv").read_text().splitlines()) > 2
     out = tmp_path / "initial"
     assert cli([str(path), "--t-end", "0.002", "--out", str(out), "--set", "frames=0", "--no-progress"]) == 0
     assert "steps to t = 0.002 s" in capsys.readouterr().out
-    assert sorted(p.name for p in out.iterdir()) == ["probes.csv", "tank.pvd", "tank_00000.vtu", "walls.vtu"]
+    assert sorted(p.name for p in out.iterdir()) == ["probes.csv", "probes.json", "run.json", "tank.pvd", "tank_00000.vtu",
+                                                    "walls.vtu"]
     scene, settings = load(path, {"frames": 0})
     assert (settings.frames, scene.frames) == (0, 1)  # the scene's frames stay >= 1 (sweeps run them)
 
@@ -588,7 +589,8 @@ def test_a_case_run_with_zero_frames_writes_the_initial_frame_only(tmp_path, cap
     assert cli(["hydrostatic_tank", "--dx", "0.1", "--t-end", "0.002", "--frames", "0", "--out", str(out),
                 "--no-progress"]) == 0
     assert "steps to t = 0.002 s" in capsys.readouterr().out
-    assert sorted(p.name for p in out.iterdir()) == ["hydrostatic_tank.pvd", "hydrostatic_tank_00000.vtu", "walls.vtu"]
+    assert sorted(p.name for p in out.iterdir()) == ["hydrostatic_tank.pvd", "hydrostatic_tank_00000.vtu",
+                                                      "results.json", "run.json", "walls.vtu"]  # (how it was made)
     sim = taisph.Simulation(taisph.cases.hydrostatic_tank(dx=0.1))
     summary = sim.run(0.002, frames=0, out=tmp_path / "api")
     assert sim.time == pytest.approx(0.002) and summary.frames == 1  # the frames written: the initial one

@@ -279,7 +279,7 @@ def command_line_probes(args, scene, walls) -> list:
             raise UsageError(f"--probe force:{p.name}:{p.walls}: no wall group {p.walls!r}; wall groups: "
                              + (", ".join(walls) or "none"))
     check_bodies(probes, [b.name for b in scene.bodies], "--probe")  # body:NAME:BODY
-    check_inside(probes, scene.domain, "--probe")
+    check_inside(probes, scene.domain, "--probe", scene=scene, walls=walls)  # also not in a wall
     return probes
 
 

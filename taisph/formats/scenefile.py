@@ -118,6 +118,11 @@ def build(spec: SceneSpec):
         scenefile_open.add(spec, scene, zone, SceneFileError)
     _check_grid(spec, scene)
     _validate(spec, scene)
+    if spec.probes:  # a point probe in a wall's material reads nothing all run: refused, naming its key
+        from ..probes.spec import check_inside
+
+        check_inside(list(spec.probes), scene.domain, [f"{spec.path}: probes[{k}]" for k in range(len(spec.probes))],
+                     scene=scene, walls=groups)
     settings = RunSettings(spec.t_end, spec.frames, spec.solver, spec.courant, list(spec.probes), groups, spec.path,
                            notes, dict(spec.controls))
     return scene, settings

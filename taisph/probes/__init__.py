@@ -9,10 +9,15 @@ face and the state of a moving or floating body, sampled during a run.
     >>> probes.times, probes.values["P1"], probes.values["floor"]                # doctest: +SKIP
 
 Points must lie inside the scene's domain: :func:`check_inside` refuses one outside,
-naming the probe, the coordinate and the domain's range, before anything runs.
+naming the probe, the coordinate and the domain's range, before anything runs; and
+outside the walls: :func:`check_placement` refuses a pressure or flow probe inside a wall
+or an obstacle, where it would read nothing all run.
 A scene file's ``[[probes]]`` are sampled the same way into ``OUT/probes.csv``
-(docs/scenes.md). Definitions (V_j = m_j / rho_j, W the scene's kernel and h; sums
-over fluid particles j within the kernel support of x):
+(docs/scenes.md), beside it ``OUT/probes.json`` says what each column measures and in
+which unit (Pa, m, N, m^2/s or m^3/s, a body's m, rad, m/s, rad/s, N; :func:`read_units`,
+docs/probes.md), and ``python -m taisph plot OUT`` draws them, an axis per quantity.
+Definitions (V_j = m_j / rho_j, W the scene's kernel and h; sums over fluid particles j
+within the kernel support of x):
 
 ``pressure`` at x: the Shepard interpolation of the fluid's pressure,
 
@@ -82,10 +87,12 @@ Cost: one kernel launch per sample (the sums of all due probes in one parallel
 loop) and a download of a few numbers per point; measured in docs/scenes.md.
 """
 
-from .spec import (BODY_COLUMNS, KINDS, OutsideDomainError, Probe, body, check_bodies, check_inside, elevation,
-                   face_points, flow, force, outside, parse, pressure)
-from .writer import ELEVATION_FRACTION, MIN_FLUID_FRACTION, Probes, read_csv, surface_height
+from .spec import (BODY_COLUMNS, KINDS, MIN_FLUID_FRACTION, InsideWallError, OutsideDomainError, Probe, body,
+                   check_bodies, check_inside, check_placement, elevation, face_points, flow, force, outside, parse,
+                   pressure)
+from .writer import ELEVATION_FRACTION, Probes, read_csv, read_units, surface_height, units_path
 
-__all__ = ["Probe", "Probes", "pressure", "elevation", "force", "read_csv", "surface_height", "KINDS",
-           "ELEVATION_FRACTION", "MIN_FLUID_FRACTION", "check_inside", "outside", "OutsideDomainError",
-           "face_points", "flow", "body", "check_bodies", "BODY_COLUMNS"]
+__all__ = ["Probe", "Probes", "pressure", "elevation", "force", "read_csv", "read_units", "units_path",
+           "surface_height", "KINDS", "ELEVATION_FRACTION", "MIN_FLUID_FRACTION", "check_inside", "outside",
+           "OutsideDomainError", "check_placement", "InsideWallError", "face_points", "flow", "body", "check_bodies",
+           "BODY_COLUMNS"]

@@ -14,6 +14,7 @@ import numpy as np
 from ..messages import InputError
 
 KINDS = ("pressure", "elevation", "force", "flow", "body")
+MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a corner has 1/4; taisph.probes)
 FACES = ("pressure", "flow")  # the kinds with points in every dimension (a point or a face)
 POINTLESS = ("force", "body")  # the kinds without points (a wall group, a body)
 # a body probe's columns (after its name and _): its reference point, orientation (2D: angle in rad;
@@ -21,6 +22,15 @@ POINTLESS = ("force", "body")  # the kinds without points (a wall group, a body)
 BODY_COLUMNS = {2: ("x", "y", "angle", "vx", "vy", "omega", "fx", "fy"),
                 3: ("x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz", "fx", "fy", "fz")}
 UP = 1  # the vertical axis: y, in 2D and 3D
+# what each column of probes.csv measures, in the scene's units (SI): kind -> (quantity, unit); a flow's
+# unit depends on the dimension (per unit depth in 2D), a body's columns on their ending (BODY_UNITS)
+UNITS = {"pressure": ("pressure", "Pa"), "elevation": ("surface elevation", "m"), "force": ("force", "N"),
+         "flow": ("flow rate", {1: "m/s", 2: "m^2/s", 3: "m^3/s"})}
+BODY_UNITS = {**{c: ("body position", "m") for c in ("x", "y", "z")}, "angle": ("body orientation", "rad"),
+              **{c: ("body orientation", "1") for c in ("qw", "qx", "qy", "qz")},
+              **{c: ("body velocity", "m/s") for c in ("vx", "vy", "vz")},
+              **{c: ("body angular velocity", "rad/s") for c in ("omega", "wx", "wy", "wz")},
+              **{c: ("body force", "N") for c in ("fx", "fy", "fz")}}
 
 
 @dataclass
@@ -56,6 +66,16 @@ class Probe:
         if self.kind == "body":
             return [f"{self.name}_{c}" for c in BODY_COLUMNS[dim]]
         return [f"{self.name}_{a}" for a in "xyz"[:dim]] if self.kind == "force" else [self.name]
+
+    def units(self, dim: int) -> list:
+        """What each of its columns (:meth:`columns`) measures: ``(column, quantity, unit)``,
+        e.g. ``("P1", "pressure", "Pa")``, ``("F_x", "force", "N")``, ``("box_angle",
+        "body orientation", "rad")``, ``("Q", "flow rate", "m^2/s")`` (2D: per unit depth)."""
+        if self.kind == "body":
+            return [(f"{self.name}_{c}", *BODY_UNITS[c]) for c in BODY_COLUMNS[dim]]
+        quantity, unit = UNITS[self.kind]
+        unit = unit[dim] if isinstance(unit, dict) else unit
+        return [(c, quantity, unit) for c in self.columns(dim)]
 
     def check(self, dim: int):
         """:class:`taisph.messages.InputError` (a ValueError) naming the probe if it is
@@ -227,19 +247,127 @@ def outside(probe: Probe, domain):
     return None
 
 
-def check_inside(probes, domain, source: str | None = None):
+def check_inside(probes, domain, source=None, scene=None, walls=None,
+                 min_fluid_fraction: float = MIN_FLUID_FRACTION):
     """Raise :class:`OutsideDomainError` (an InputError, so a ValueError) for the
     first of `probes` with a point outside `domain` (:func:`outside`):
     ``[SOURCE: ]probe 'P': at = (5.0, 5.0): x = 5 is outside the domain (-0.16 .. 1.16)``.
-    `source` says where the probes come from (``"--probe"``, a file). Call it before
-    anything runs: a point outside the domain would only ever read nan."""
-    for p in probes:
+    `source` says where the probes come from (``"--probe"``, a file; or one such text
+    per probe, e.g. ``"FILE: probes[2]"``). Call it before anything runs: a point outside
+    the domain would only ever read nan. Given the `scene` (its particles), also
+    :func:`check_placement` (`walls`: its wall groups, {name: ids}, to name the wall)."""
+    for k, p in enumerate(probes):
         bad = outside(p, domain)
         if bad is not None:
             key, problem = bad
-            prefix = f"{source}: " if source else ""
+            prefix = _prefix(source, k)
             raise OutsideDomainError(f"{prefix}probe {p.name!r}: {key} = {getattr(p, key)!r}: {problem}",
                                      p.name, key, problem)
+    if scene is not None:
+        check_placement(probes, scene, walls, source, min_fluid_fraction)
+
+
+def _prefix(source, k: int) -> str:
+    """``"SOURCE: "`` for probe `k`: `source` a text for all probes or a list of one per probe."""
+    if isinstance(source, (list, tuple)):
+        source = source[k] if k < len(source) else None
+    return f"{source}: " if source else ""
+
+
+class InsideWallError(InputError):
+    """A probe inside a wall or an obstacle (:func:`check_placement`); the message names the
+    probe, its point (or face), the wall and where the probe came from. Attributes:
+    ``probe`` (its name), ``wall`` (the wall group's name, or None), ``fraction`` (the
+    walls' share of the kernel support at the point)."""
+
+    def __init__(self, message, probe=None, wall=None, fraction=None):
+        super().__init__(message)
+        self.probe, self.wall, self.fraction = probe, wall, fraction
+
+
+def check_placement(probes, scene, walls=None, source=None, min_fluid_fraction: float = MIN_FLUID_FRACTION):
+    """Refuse (:class:`InsideWallError`) the first pressure or flow probe of `probes` whose
+    point (every point of its face) lies inside a wall or an obstacle of `scene` at the
+    start, where it would read nan (or no flow) all run. Inside (:mod:`taisph.probes.placement`):
+
+    - the walls' material (the cubes of side dx around their particles) fills at least
+      1 - `min_fluid_fraction` / 2 (0.9) of its kernel support (about 1 deep in a wall, 1/2
+      on its face, 3/4 in a 2D corner, 7/8 in a 3D one): the fluid, which fills at most
+      the rest, could never give it the fluid fraction a reading needs;
+    - or no fluid can come within 1.25 dx of it (no point that near lies outside the walls'
+      material and a particle spacing inside the domain): the outer layers of a tank's
+      wall, whose material touches only the thin space between the tank and the domain's
+      edge;
+    - or it lies in a hollow of the walls that the fluid cannot reach (inside a cylinder of
+      rings of wall particles), less than about 65 dx across (33 dx in 3D).
+
+    A point in empty air (no particle near it), on the fluid's side of a wall or on its
+    face (also where the wall lattice does not line up with the face and the point is a
+    little inside the first layer) passes. `walls` ({name: particle ids}; default the
+    scene's ``wall_groups``) names the wall; `source` as in :func:`check_inside`. Elevation
+    probes (a vertical line, which may cross a wall below the water) and force and body
+    probes are not checked; a body's particles (which move) do not count as walls."""
+    limit = 1.0 - min_fluid_fraction / 2
+    groups = {**(getattr(scene, "wall_groups", None) or {}), **(walls or {})}
+    for k, p in enumerate(probes):
+        if p.kind not in FACES or p.at is None or len(p.at) != scene.dim:
+            continue
+        points = [p.at] if p.to is None else face_points(p.at, p.to, scene.dx / 2.0)
+        found = _inside(scene, points, limit)
+        if found is not None:
+            why, particle, fraction = found
+            name = wall_name(groups, particle, len(scene.kind))
+            raise InsideWallError(_inside_message(p, scene, name, particle, why, _prefix(source, k)), p.name, name,
+                                  fraction)
+
+
+def _inside(scene, points, limit: float):
+    """``(why, wall particle, walls' share)`` if every one of `points` lies inside the walls
+    (:func:`check_placement`'s rules), else None."""
+    from .placement import ROOM, enclosed, fluid_room, material_fraction, nearest_wall
+
+    why, least = None, 1.0
+    for x in points:
+        fraction = material_fraction(scene, x)
+        least = min(least, fraction)
+        if fraction >= limit:
+            reason = f"the walls fill {100 * fraction:.0f} % of its kernel support"
+        elif not fluid_room(scene, x):
+            reason = f"no fluid can come within {ROOM:g} dx of it"
+        elif enclosed(scene, x):
+            reason = "in a hollow the walls close off from the fluid"
+        else:
+            return None
+        why = why or reason
+    return why, nearest_wall(scene, points[0]), least
+
+
+def _inside_message(p: Probe, scene, name, particle: int, why: str, prefix: str) -> str:
+    """The one line of an :class:`InsideWallError`."""
+    where = f"at = {p.at!r}" if p.to is None else f"its face from at = {p.at!r} to to = {p.to!r}"
+    if name:
+        wall = "the walls" if name == "walls" else f"the wall {name!r}"  # (a case's group of all its walls)
+    else:
+        wall = "a wall"
+        why = f"the wall particle nearest to it at ({', '.join(f'{v:g}' for v in scene.position[particle])}); {why}"
+    reads = "no flow" if p.kind == "flow" else "nan"
+    return (f"{prefix}probe {p.name!r}: {where} lies inside {wall} ({why}), so it would read {reads} all run; "
+            "move it to the fluid's side of the wall (on the wall's face it reads the fluid against it)")
+
+
+def wall_name(groups: dict, particle: int, n: int) -> str | None:
+    """The name of the smallest wall group of `groups` ({name: ids: a slice, range, mask or
+    indices of the `n` particles}) holding `particle`, or None."""
+    best = None
+    for name, ids in groups.items():
+        try:
+            index = np.arange(n)[ids] if isinstance(ids, (slice, range)) else np.asarray(ids)
+            index = np.flatnonzero(index) if index.dtype == bool else index.astype(np.int64).ravel()
+        except (IndexError, TypeError, ValueError):
+            continue
+        if particle in index and (best is None or len(index) < best[1]):
+            best = (name, len(index))
+    return best[0] if best else None
 
 
 def parse(text: str, dim: int) -> Probe:

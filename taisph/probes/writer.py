@@ -1,10 +1,14 @@
 """:class:`Probes`: a run writer that samples probes every k steps, keeps the samples
-as numpy and writes them, a row at a time, to a CSV file (``OUT/probes.csv``)."""
+as numpy and writes them, a row at a time, to a CSV file (``OUT/probes.csv``), with a
+sidecar (``OUT/probes.json``) saying what each column measures and in which unit
+(docs/probes.md); :func:`read_csv` and :func:`read_units` read them back."""
 
 from __future__ import annotations
 
 import csv
+import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -14,10 +18,11 @@ from ..messages import InputError
 from ..engine.integrators import PredictorCorrector
 from ..engine.layout import WALL
 from .device import Sampler
-from .spec import UP, Probe, check_bodies, check_inside, face_normal, face_points
+from .spec import (MIN_FLUID_FRACTION, UP, Probe, check_bodies, check_inside, check_placement, face_normal,
+                   face_points)
 
 ELEVATION_FRACTION = 0.5  # the free surface: where the fluid fraction phi falls through 1/2
-MIN_FLUID_FRACTION = 0.2  # below this phi a pressure probe reads no value (a corner has 1/4; taisph.probes)
+UNITS_FORMAT = "taisph probes 1"  # the sidecar's "format"
 
 
 class Probes:
@@ -31,13 +36,24 @@ class Probes:
     ``min_fluid_fraction``  a pressure probe reads NaN where the fluid fraction phi
                  at its point is below this (default 0.2; see :mod:`taisph.probes`);
     ``append``   continue an existing CSV at `path` (a resumed run) instead of
-                 starting it anew.
+                 starting it anew;
+    ``resume_time``  with `append`, the time of the checkpoint the run resumes from
+                 (``sim.time``): the rows written after it (by the run that went on past
+                 the checkpoint before it stopped) are dropped first, so the CSV goes on
+                 exactly once, times increasing. Rows at that time were written before the
+                 checkpoint (a sample is taken after its step, a checkpoint after the step
+                 that reaches an output time) and are kept; with the Euler-type integrators,
+                 whose rows are labelled with their step's start, it is written again.
 
     The probes are checked when the run starts (or at the first :meth:`sample`),
     before anything is sampled or written: a malformed probe, a wall group that does
-    not exist or a point outside the scene's domain
-    (:class:`taisph.probes.OutsideDomainError`) raises an
-    :class:`taisph.messages.InputError` (a ValueError) naming the probe.
+    not exist, a point outside the scene's domain
+    (:class:`taisph.probes.OutsideDomainError`) or inside a wall
+    (:class:`taisph.probes.InsideWallError`, :func:`taisph.probes.check_placement`)
+    raises an :class:`taisph.messages.InputError` (a ValueError) naming the probe.
+
+    Beside the CSV, ``probes.json`` (the CSV's name with ``.json``) lists its columns with
+    the quantity and unit of each (:meth:`units`, :func:`read_units`; docs/probes.md).
 
     A sample is taken when the run starts from a new simulation (its initial state)
     and after every ``every`` steps, ``every`` the greatest common divisor of the
@@ -55,7 +71,7 @@ class Probes:
     """
 
     def __init__(self, probes, walls=None, path=None, min_fluid_fraction: float = MIN_FLUID_FRACTION,
-                 append: bool = False):
+                 append: bool = False, resume_time: float | None = None):
         self.probes = [p if isinstance(p, Probe) else Probe(**p) for p in probes]
         names = [p.name for p in self.probes]
         if not self.probes:
@@ -65,6 +81,9 @@ class Probes:
         self.walls = dict(walls or {})
         self.path = Path(path) if path is not None else None
         self.append = append  # a resumed run continues the file (the header stays)
+        if resume_time is not None and not (isinstance(resume_time, (int, float)) and math.isfinite(resume_time)):
+            raise InputError(f"resume_time = {resume_time!r}: expected a finite time (s), the checkpoint's")
+        self.resume_time = None if resume_time is None else float(resume_time)
         if not 0 < min_fluid_fraction < 1:
             raise InputError(f"min_fluid_fraction = {min_fluid_fraction!r}: expected a number in (0, 1)")
         self.min_fluid_fraction = float(min_fluid_fraction)
@@ -85,6 +104,12 @@ class Probes:
         elif self.sim is not sim:
             raise ValueError("a Probes writer samples one simulation; make another for this one")
         self._steps = 0
+        if self.resume_time is not None and sim.steps > 0:
+            # a resumed run samples where the run it continues would have: its own every counts
+            # the steps since that run's start; called every step unless the phase is the same
+            self._steps = sim.steps
+            if sim.steps % self.every:
+                self.every = 1
         if sim.steps == 0:  # S holds the bootstrap evaluation of the initial state
             self.sample(sim, self.probes)
 
@@ -104,6 +129,7 @@ class Probes:
             p.check(dim)
         check_inside(self.probes, sim.scene.domain)  # before the first step: nothing sampled, no file
         check_bodies(self.probes, [b.name for b in getattr(sim.scene, "bodies", ())])
+        check_placement(self.probes, sim.scene, self.walls, min_fluid_fraction=self.min_fluid_fraction)
         kinds = sim.scene.kind
         points, self._slices, groups, self._normals = [], {}, [], {}
         lo, hi = (np.asarray(v, float) for v in sim.scene.domain)
@@ -142,12 +168,38 @@ class Probes:
         self._time_lags = not isinstance(sim.solver.integrator, PredictorCorrector)
         self.sim = sim
         if self.path is not None:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            old = self.append and self.path.exists() and self.path.stat().st_size > 0
-            self._file = open(self.path, "a" if old else "w", newline="")
-            if not old:
-                self._file.write(",".join(["time", *self.columns()]) + "\n")
-            self._file.flush()
+            self._open()
+
+    def _open(self):
+        """Open the CSV (a new one with its header, or the one a resumed run continues,
+        without the rows after `resume_time`) and write its sidecar of units."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        header = ",".join(["time", *self.columns()])
+        old = self.append and self.path.exists() and self.path.stat().st_size > 0
+        if old:
+            lags = self._time_lags  # rows labelled with their step's start: the one at resume_time comes again
+            continue_csv(self.path, header, self.resume_time, inclusive=not lags)
+        write_atomic(units_path(self.path), json_lines(self.units()))
+        self._file = open(self.path, "a" if old else "w", newline="")
+        if not old:
+            self._file.write(header + "\n")
+        self._file.flush()
+
+    def units(self) -> dict:
+        """What the sidecar ``probes.json`` holds: the format, the dimension, the CSV's file
+        name, its columns in order (``name``, ``probe``, ``kind``, ``quantity``, ``unit``;
+        ``time`` first, in s) and the probes (name, kind, where, every)."""
+        dim = self.sim.dim
+        columns = [{"name": "time", "probe": None, "kind": "time", "quantity": "time", "unit": "s"}]
+        columns += [{"name": c, "probe": p.name, "kind": p.kind, "quantity": q, "unit": u}
+                    for p in self.probes for c, q, u in p.units(dim)]
+        probes = [{"name": p.name, "kind": p.kind, "every": int(p.every),
+                   **({"at": [float(v) for v in p.at]} if p.at is not None else {}),
+                   **({"to": [float(v) for v in p.to]} if p.to else {}),
+                   **({"walls": p.walls} if isinstance(p.walls, str) else {}),
+                   **({"body": p.target} if p.kind == "body" else {})} for p in self.probes]
+        return {"format": UNITS_FORMAT, "dim": dim, "csv": self.path.name if self.path else None,
+                "columns": columns, "probes": probes}
 
     def columns(self) -> list:
         """The CSV's value columns (after ``time``): one per probe, x/y(/z) per force, a body's
@@ -286,8 +338,82 @@ def surface_height(heights, phi, fraction: float = ELEVATION_FRACTION) -> float:
 
 def read_csv(path) -> dict:
     """A probes.csv as {column: float array}; empty cells (not sampled) and ``nan``
-    (no value) are NaN."""
+    (no value) are NaN; lines starting with ``#`` are comments."""
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+    if not rows:
+        raise InputError(f"{path}: empty (no header line: time, then the probes' columns)")
     header, body = rows[0], rows[1:]
     return {name: np.array([float(r[k]) if r[k] else math.nan for r in body]) for k, name in enumerate(header)}
+
+
+def units_path(path) -> Path:
+    """The sidecar of the CSV `path`: the same name with ``.json`` (``OUT/probes.json``)."""
+    path = Path(path)
+    side = path.with_suffix(".json")
+    return side if side != path else path.with_name(path.name + ".units.json")
+
+
+def read_units(path) -> dict | None:
+    """{column: {"probe", "kind", "quantity", "unit"}} of the probes.csv `path`, from its
+    sidecar (:func:`units_path`); None if there is none (a CSV written before taisph wrote
+    them). An unreadable sidecar is an :class:`taisph.messages.InputError` naming it."""
+    side = units_path(path)
+    if not side.is_file():
+        return None
+    try:
+        data = json.loads(side.read_text())
+        columns = {c["name"]: {k: c.get(k) for k in ("probe", "kind", "quantity", "unit")} for c in data["columns"]}
+    except (ValueError, KeyError, TypeError) as err:
+        raise InputError(f"{side}: not a probes sidecar ({type(err).__name__}: {err})") from None
+    return columns
+
+
+def json_lines(data: dict) -> str:
+    """`data` (a dict of scalars and lists) as JSON with one line per scalar and per list item."""
+    def item(key, value):
+        if not isinstance(value, list):
+            return f" {json.dumps(key)}: {json.dumps(value)}"
+        return f" {json.dumps(key)}: [\n" + ",\n".join(f"  {json.dumps(v)}" for v in value) + "\n ]"
+    return "{\n" + ",\n".join(item(k, v) for k, v in data.items()) + "\n}\n"
+
+
+def write_atomic(path, text: str):
+    """Write `text` to `path` through a temporary file beside it and a rename: a reader
+    (or a run stopped meanwhile) sees the old file or the new one, never half of it."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp")
+    with open(tmp, "w", newline="") as f:
+        f.write(text)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def continue_csv(path, header: str, resume_time: float | None, inclusive: bool = True):
+    """Make the probes.csv `path` ready for a resumed run to append to: its header must be
+    `header` (the same probes; else an InputError), a last line cut short by a stopped run
+    is dropped, and with `resume_time` so is every row later than it (at it too unless
+    `inclusive`), through :func:`write_atomic`; comment lines stay."""
+    lines = Path(path).read_text().splitlines(keepends=True)
+    body = [k for k, line in enumerate(lines) if not line.startswith("#")]
+    if not body or lines[body[0]].rstrip("\r\n") != header:
+        found = lines[body[0]].rstrip("\r\n") if body else "(no header)"
+        raise InputError(f"{path}: its columns ({found}) are not the resumed run's probes' ({header}); move it "
+                         "away to start a new one")
+    keep = lines[: body[0] + 1]
+    width = header.count(",") + 1
+    for line in lines[body[0] + 1 :]:
+        if line.startswith("#"):
+            keep.append(line)
+            continue
+        if not line.endswith("\n") or line.count(",") + 1 != width:
+            continue  # cut short
+        try:
+            t = float(line.split(",", 1)[0])
+        except ValueError:
+            continue
+        if resume_time is None or t < resume_time or (inclusive and t == resume_time):
+            keep.append(line)
+    if keep != lines:
+        write_atomic(path, "".join(keep))

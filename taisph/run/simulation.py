@@ -278,7 +278,9 @@ class Simulation(Readout):
         run_writers += list(writers)
         self._step_writers = [w for w in run_writers if callable(getattr(w, "on_steps", None))]
         frames0 = frame_writer.frame if frame_writer else 0
-        for writer in run_writers:
+        # the caller's writers first: one that refuses its input (a probe in a wall) does so
+        # before a frame is written
+        for writer in sorted(run_writers, key=lambda w: w not in writers):
             writer.on_start(self)
         if (stepper := self.pressure_solve) is not None:
             stepper.begin_window()
