@@ -89,7 +89,7 @@ def test_case_help_shows_each_parameter_range(capsys):
     assert row["courant"].split() == ["courant", "=", "0.2", "in", "(0,", "1]"]
     assert row["spacing"].split() == ["spacing", "=", "'equal_mass'", "one", "of", "'equal_mass',", "'equal_spacing'"]
     assert row["left"].endswith("(rho, u, p) with rho > 0, u a finite number, p > 0")
-    assert row["frames"].endswith("an integer in [1, 100000]")
+    assert row["frames"].endswith("an integer in [0, 100000]")
 
 
 def test_set_parses_by_the_declared_range(tmp_path, capsys):

@@ -81,13 +81,13 @@ def test_a_docstring_line_defines_a_parameter(monkeypatch):
     monkeypatch.setitem(catalogue.registry(), "slot", case)
     meanings = case_help.parameter_meanings("slot")
     assert meanings["gap"] == "(m) the width of the slot between the plates"
-    assert "--frames N also takes 0" in meanings["frames"]
+    assert "0: the initial frame only" in meanings["frames"]
 
 
 def test_frames_help_agrees_with_frames_zero():
-    """``frames`` showed ``[1, 100000]`` where ``--frames 0`` runs: the help says both."""
+    """``frames`` showed ``[1, 100000]`` where ``--frames 0`` runs: both take 0 now (``--set frames=0`` too)."""
     text = " ".join(help_text("dam_break").split())
-    assert "frames = 50 an integer in [1, 100000] frames written after the initial one (--frames N also takes 0" in text
+    assert "frames = 50 an integer in [0, 100000] frames written after the initial one (0: the initial frame only" in text
     assert "--frames FRAMES frames to write after the initial one (0 to 1e5; 0: the initial frame only" in text
 
 

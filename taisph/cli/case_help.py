@@ -24,7 +24,7 @@ RANGE_MEANINGS = (
     (parameters.reference_density, "reference density rho0 (kg/m^3)"),
     (parameters.tait_exponent, "Tait exponent gamma"),
     (parameters.end_time, "simulated end time (s)"),
-    (parameters.frame_count, "frames written after the initial one (--frames N also takes 0: the initial frame only)"),
+    (parameters.frame_count, "frames written after the initial one (0: the initial frame only)"),
     (parameters.known_kernel, "smoothing kernel"),
     (parameters.known_integrator, "time integrator"),
     (parameters.known_solver, "solver: wcsph (weakly compressible) or dfsph (divergence-free SPH)"),

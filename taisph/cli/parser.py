@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 
 from ..messages import InputError
-from ..scene.parameters import (Range, at_least, between, courant_number, end_time, frame_count, integer, output_frames,
+from ..scene.parameters import (Range, at_least, between, courant_number, end_time, integer, output_frames, seed_frames,
                                 positive)
 
 
@@ -73,7 +73,7 @@ def ranged_list(rng: Range, what: str = "values"):
 
 # the ranges of options shared by several commands
 POSITIVE = ranged(positive, "positive number")
-FRAMES = ranged(frame_count, "frames")  # the cases' range of frames
+FRAMES = ranged(seed_frames, "frames")  # the seed's run command's
 OUTPUT_FRAMES = ranged(output_frames, "frames")  # a run's: 0 writes the initial frame only
 END_TIME = ranged(end_time, "end time")  # and of t_end
 THREADS = ranged(integer(at_least=1), "threads")

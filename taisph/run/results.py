@@ -95,8 +95,8 @@ def report(scene, sim, out) -> list[str]:
     """Lines to print about the headline results of `sim` (a finished run of `scene`),
     and, if `out` (the output folder) is not None, ``OUT/results.json`` written (whole,
     through a temporary file: never half-written). [] and nothing written for a scene
-    without headline results (an earlier run's results.json there is removed). A headline that fails to compute is reported in one line
-    (the run's own output stands)."""
+    without headline results (an earlier run's results.json there is removed). A headline
+    that fails to compute is reported in one line (the run's own output stands)."""
     if out is not None:  # an earlier run's results in this folder would now be about another run
         (Path(out) / RESULTS_FILE).unlink(missing_ok=True)
     try:

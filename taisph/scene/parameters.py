@@ -138,8 +138,9 @@ courant_number = Number(0, 1, low_open=True)
 # engine runs; beyond it, a mistyped exponent
 end_time = Number(0, 1e5, low_open=True)
 # frames written (each frame's time is kept in a list: 10^5 is a frame per 10 ms for 1000 s)
-frame_count = integer(at_least=1, at_most=100_000)
-output_frames = integer(at_least=0, at_most=100_000)  # a run's frames: 0 writes the initial frame only
+# frames written after the initial one: 0 writes the initial frame only (a case's frames=, --frames)
+frame_count = output_frames = integer(at_least=0, at_most=100_000)
+seed_frames = integer(at_least=1, at_most=100_000)  # the seed's `run` writes at least one
 # Monaghan's alpha: the artificial viscosity h alpha c / (2 (d + 2)) keeps the explicit
 # viscous limit of the step (0.125 h^2 / nu) above the CFL step (0.25 h / c) up to
 # alpha = 4; 1 for shocks (Monaghan 1992), 0.01-0.1 for free-surface flows
