@@ -46,6 +46,11 @@ def test_pvd_lists_frames_with_times(small_run, at_output_times):
     at_output_times([t for t, _ in fluid], [0.0, 0.025, 0.05])
     assert all((out / f).exists() for _, _, f in entries)
     assert summary.frames == 3
+    # the blocks are named for ParaView (they were "Block 0", "Block 1": issue 50)
+    import xml.etree.ElementTree as ET
+
+    names = {(e.get("part"), e.get("name")) for e in ET.parse(out / "dam_break.pvd").getroot().iter("DataSet")}
+    assert names == {("0", "fluid"), ("1", "walls")}
 
 
 def test_vtk_xml_reader_opens_every_frame(small_run):

@@ -71,6 +71,11 @@ def write_vtu(path: Path, positions, arrays: dict) -> None:
         meshio.write(str(tmp), meshio.Mesh(points, cells, point_data=data), file_format="vtu", binary=True)
 
 
+# what each part of the index holds, named so in ParaView's pipeline browser (the DataSet's
+# ``name`` attribute; unnamed, they read "Block 0", "Block 1"...)
+BLOCK_NAMES = ("fluid", "walls", "bodies")
+
+
 def write_pvd(path: Path, entries) -> None:
     """Write a ParaView collection; `entries` are (time, part, file name) tuples."""
     path = Path(path)
@@ -78,7 +83,8 @@ def write_pvd(path: Path, entries) -> None:
              '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
              "  <Collection>"]
     for t, part, name in entries:
-        lines.append(f'    <DataSet timestep="{float(t)!r}" group="" part="{part}" file={quoteattr(name)}/>')
+        block = f' name="{BLOCK_NAMES[part]}"' if part < len(BLOCK_NAMES) else ""  # ParaView's block names
+        lines.append(f'    <DataSet timestep="{float(t)!r}" group="" part="{part}"{block} file={quoteattr(name)}/>')
     lines += ["  </Collection>", "</VTKFile>", ""]
     tmp = path.with_name(path.name + ".tmp")
     with _replacing(tmp, path):
