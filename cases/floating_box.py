@@ -41,7 +41,7 @@ def floating_box(
 ):
     """A `box_width` x `box_height` box of density `box_density` floating in a
     `tank_width` tank of still water `depth` deep (defaults: 0.5 m x 0.5 m, 500 kg/m^3,
-    1.5 m x 1 m of water, dx = 0.02 m: 3425 fluid and 625 body particles).
+    1.5 m x 1 m of water, dx = 0.02 m: 3450 fluid and 625 body particles).
 
     The box starts in the middle of the tank (off it by dx/2 if the tank's and the box's
     widths in dx differ in parity) at its equilibrium draft, box_density / 1000 x

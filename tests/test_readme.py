@@ -1,8 +1,8 @@
-"""The README says what the code does: its option block lists every option of
-``python -m taisph CASE``, and the defaults, counts and commands it quotes are read
-here from the code (the parser, the default dam break scene, the time-step controls,
-pyproject.toml), never from copies. No simulation runs: building the default scenes is
-all (about a second)."""
+"""The README says what the code does: the option block it links to (docs/command_line.md)
+lists every option of ``python -m taisph CASE``, and the defaults, counts and commands it
+quotes are read here from the code (the parser, the default dam break scene, the time-step
+controls, pyproject.toml), never from copies. No simulation runs: building the default
+scenes is all (about a second). The README's snippets run in tests/test_docs_snippets.py."""
 
 import re
 import sys
@@ -12,13 +12,14 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 README = (ROOT / "README.md").read_text(encoding="utf-8")
+COMMAND_LINE = (ROOT / "docs" / "command_line.md").read_text(encoding="utf-8")
 OPTION = re.compile(r"^\s+(--[a-z][a-z-]*)\b")
 
 
-def section(title: str) -> str:
-    """The text of the README's ``## title`` section, up to the next ``## ``."""
-    match = re.search(rf"^## {re.escape(title)}\n(.*?)(?=^## |\Z)", README, re.M | re.S)
-    assert match, f"README.md has no '## {title}' section"
+def section(title: str, text: str = README, name: str = "README.md") -> str:
+    """The text of the ``## title`` section of `text`, up to the next ``## ``."""
+    match = re.search(rf"^## {re.escape(title)}\n(.*?)(?=^## |\Z)", text, re.M | re.S)
+    assert match, f"{name} has no '## {title}' section"
     return match.group(1)
 
 
@@ -30,8 +31,10 @@ def first_block(text: str) -> str:
 
 
 def option_block() -> str:
-    """The command-line option block: the first code block of '## Command line'."""
-    return first_block(section("Command line"))
+    """The command-line option block: the first code block of docs/command_line.md's
+    '## Every option', which the README's '## Command line' links to."""
+    assert "(docs/command_line.md)" in section("Command line"), "README.md no longer links the option block"
+    return first_block(section("Every option", COMMAND_LINE, "docs/command_line.md"))
 
 
 def option_entries() -> dict:
@@ -62,7 +65,7 @@ def parser_actions():
 
 def entry(option: str) -> str:
     entries = option_entries()
-    assert option in entries, f"README.md's option block has no line for {option}"
+    assert option in entries, f"docs/command_line.md's option block has no line for {option}"
     return " ".join(entries[option].split())  # wrapped lines joined
 
 
@@ -75,14 +78,14 @@ def dam_break():
 
 def test_every_option_of_a_case_is_in_the_readme_option_block():
     """Every option string of ``build_parser("dam_break")`` (-h/--help aside) appears in
-    the README's option block, and has a line of its own there."""
+    the option block (docs/command_line.md), and has a line of its own there."""
     block = option_block()
     strings = [s for a in parser_actions() for s in a.option_strings]
     assert len(strings) > 20  # the parser was really read
     missing = [s for s in strings if not re.search(rf"(?<![\w-]){re.escape(s)}(?![\w-])", block)]
-    assert not missing, f"options missing from README.md's option block: {missing}"
+    assert not missing, f"options missing from docs/command_line.md's option block: {missing}"
     no_line = [s for s in strings if s.startswith("--") and s not in option_entries()]
-    assert not no_line, f"options without a line of their own in README.md's option block: {no_line}"
+    assert not no_line, f"options without a line of their own in docs/command_line.md's option block: {no_line}"
 
 
 def test_the_option_block_lists_no_option_the_parser_lacks():
@@ -100,7 +103,7 @@ def test_parser_defaults_and_choices_are_quoted_as_they_are():
         if action.default not in (None, False, []):
             value = f"{action.default:g}" if isinstance(action.default, float) else str(action.default)
             assert re.search(rf"default:? {re.escape(value)}(?![\d.])", entry(option)), \
-                f"README.md: {option} should say 'default {value}': {entry(option)!r}"
+                f"docs/command_line.md: {option} should say 'default {value}': {entry(option)!r}"
             checked += 1
         if action.choices:
             assert "{" + ",".join(action.choices) + "}" in entry(option), (option, entry(option))
