@@ -308,3 +308,25 @@ def test_a_scene_files_run_checkpoints_and_resumes(tmp_path, capsys):
     meta = json.loads((out / "checkpoint" / "meta.json").read_text())
     assert meta["run"]["wall_groups"] and all(isinstance(v, list) for v in meta["run"]["wall_groups"].values())
     assert cli.main(["resume", str(out / "checkpoint"), "--t-end", "0.006", "--no-progress"]) == 0
+
+
+def test_ctrl_c_while_a_checkpoint_is_written_leaves_the_last_one_whole(saved, tmp_path, monkeypatch):
+    """A KeyboardInterrupt inside save() (here raised by the second array file's write; a
+    real SIGINT is held back until save() ends) left OUT/checkpoint.tmp behind (CI's SIGINT
+    test caught it): now the temporary folder is removed and the last checkpoint stands."""
+    sim, out, _, _ = saved
+    folder = tmp_path / "checkpoint"
+    shutil.copytree(out / "checkpoint", folder)
+    before = (folder / "meta.json").read_text()
+    savez = np.savez
+
+    def interrupted(path, **arrays):
+        if str(path).endswith("scene.npz"):
+            raise KeyboardInterrupt
+        return savez(path, **arrays)
+
+    monkeypatch.setattr(checkpoint.np, "savez", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        checkpoint.save(sim, folder, t_end=0.04, frames_left=1)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["checkpoint"]
+    assert (folder / "meta.json").read_text() == before

@@ -28,10 +28,12 @@ bit for bit in deterministic mode, to round-off otherwise. A folder of another s
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import os
 import shutil
+import signal
 import zipfile
 from importlib import metadata
 from pathlib import Path
@@ -134,23 +136,45 @@ def save(sim, folder, t_end=None, frames_left=None, writer=None, checkpoint_ever
     list and `wall_groups` the particle ids of the wall groups they name."""
     folder = Path(folder)
     meta, scene_arrays = meta_of(sim, t_end, frames_left, writer, checkpoint_every, probes, wall_groups, output_times)
+    arrays = sim.state.arrays()
     tmp = folder.with_name(folder.name + ".tmp")
-    if tmp.exists():
-        shutil.rmtree(tmp)
-    tmp.mkdir(parents=True)
-    np.savez(tmp / "state.npz", **sim.state.arrays())
-    np.savez(tmp / "scene.npz", **scene_arrays)
-    (tmp / "meta.json").write_text(json.dumps(meta, indent=1, allow_nan=False) + "\n", encoding="utf-8")
-    if folder.exists():
-        old = folder.with_name(folder.name + ".old")
-        if old.exists():
+    with _deferred_interrupt():  # Ctrl-C now lands after the checkpoint is whole, or before it began
+        try:
+            if tmp.exists():
+                shutil.rmtree(tmp)
+            tmp.mkdir(parents=True)
+            np.savez(tmp / "state.npz", **arrays)
+            np.savez(tmp / "scene.npz", **scene_arrays)
+            (tmp / "meta.json").write_text(json.dumps(meta, indent=1, allow_nan=False) + "\n", encoding="utf-8")
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)  # nothing half-written left behind
+            raise
+        if folder.exists():
+            old = folder.with_name(folder.name + ".old")
+            if old.exists():
+                shutil.rmtree(old)
+            os.replace(folder, old)
+            os.replace(tmp, folder)
             shutil.rmtree(old)
-        os.replace(folder, old)
-        os.replace(tmp, folder)
-        shutil.rmtree(old)
-    else:
-        os.replace(tmp, folder)
+        else:
+            os.replace(tmp, folder)
     return folder
+
+
+@contextlib.contextmanager
+def _deferred_interrupt():
+    """SIGINT held back while the block runs (delivered after it), where the platform can
+    (POSIX); elsewhere the block's own cleanup and :func:`check_folder`'s recovery of
+    ``NAME.old`` cover an interruption."""
+    block = getattr(signal, "pthread_sigmask", None)
+    if block is None:
+        yield
+        return
+    old = block(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        block(signal.SIG_SETMASK, old)
 
 
 # --- reading -------------------------------------------------------------------------
