@@ -148,10 +148,3 @@ def case_arguments(case: str, settings=(), **options) -> dict:
         kwargs[key] = value
     return kwargs
 
-
-def describe_parameters(case: str) -> str:
-    """One line per parameter: ``name = default    allowed range`` (for ``CASE --help``)."""
-    params = parameters(case).values()
-    left = [f"  {p.name} = {p.default!r}" for p in params]
-    width = max(len(s) for s in left) + 2
-    return "\n".join(f"{s:<{width}}{p.range.describe()}" for s, p in zip(left, params))
