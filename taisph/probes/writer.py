@@ -8,7 +8,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +16,7 @@ from ..engine import status as st
 from ..messages import InputError
 from ..engine.integrators import PredictorCorrector
 from ..engine.layout import WALL
+from ..run.atomic import write_text
 from .device import Sampler
 from .spec import (MIN_FLUID_FRACTION, UP, Probe, check_bodies, check_inside, check_placement, face_normal,
                    face_points)
@@ -179,7 +179,7 @@ class Probes:
         if old:
             lags = self._time_lags  # rows labelled with their step's start: the one at resume_time comes again
             continue_csv(self.path, header, self.resume_time, inclusive=not lags)
-        write_atomic(units_path(self.path), json_lines(self.units()))
+        write_text(units_path(self.path), json_lines(self.units()))
         self._file = open(self.path, "a" if old else "w", newline="")
         if not old:
             self._file.write(header + "\n")
@@ -378,23 +378,11 @@ def json_lines(data: dict) -> str:
     return "{\n" + ",\n".join(item(k, v) for k, v in data.items()) + "\n}\n"
 
 
-def write_atomic(path, text: str):
-    """Write `text` to `path` through a temporary file beside it and a rename: a reader
-    (or a run stopped meanwhile) sees the old file or the new one, never half of it."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp")
-    with open(tmp, "w", newline="") as f:
-        f.write(text)
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
-
-
 def continue_csv(path, header: str, resume_time: float | None, inclusive: bool = True):
     """Make the probes.csv `path` ready for a resumed run to append to: its header must be
     `header` (the same probes; else an InputError), a last line cut short by a stopped run
     is dropped, and with `resume_time` so is every row later than it (at it too unless
-    `inclusive`), through :func:`write_atomic`; comment lines stay."""
+    `inclusive`), through :func:`taisph.run.atomic.write_text`; comment lines stay."""
     lines = Path(path).read_text().splitlines(keepends=True)
     body = [k for k, line in enumerate(lines) if not line.startswith("#")]
     if not body or lines[body[0]].rstrip("\r\n") != header:
@@ -416,4 +404,4 @@ def continue_csv(path, header: str, resume_time: float | None, inclusive: bool =
         if resume_time is None or t < resume_time or (inclusive and t == resume_time):
             keep.append(line)
     if keep != lines:
-        write_atomic(path, "".join(keep))
+        write_text(path, "".join(keep))

@@ -43,6 +43,8 @@ import sys
 import time
 from pathlib import Path
 
+from .atomic import write_text
+
 FILE = "run.json"
 FORMAT = "taisph-run"
 SCHEMA = 1
@@ -116,13 +118,7 @@ def now() -> str:
 
 def write(path: Path, data: dict) -> None:
     """`data` as JSON to `path`, atomically."""
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        tmp.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    write_text(path, json.dumps(data, indent=1) + "\n")
 
 
 def read(folder) -> dict:

@@ -21,11 +21,12 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from .atomic import write_text
 
 RESULTS_FILE = "results.json"
 DIMENSIONLESS = "1"  # the unit of a ratio or coefficient (as UDUNITS writes it)
@@ -118,14 +119,7 @@ def write(folder: Path, scene, sim, results) -> Path:
     data = {"scene": scene.name, "case": getattr(scene, "case", ""), "time": float(sim.time),
             "steps": int(sim.steps), "results": {r.name: r.as_dict() for r in results}}
     folder.mkdir(parents=True, exist_ok=True)
-    path = folder / RESULTS_FILE
-    tmp = folder / f".{RESULTS_FILE}.{os.getpid()}.tmp"
-    try:
-        tmp.write_text(json.dumps(data, indent=2) + "\n")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-    return path
+    return write_text(folder / RESULTS_FILE, json.dumps(data, indent=2) + "\n")
 
 
 def read(folder) -> dict:

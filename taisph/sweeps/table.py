@@ -15,11 +15,11 @@ import csv
 import io
 import json
 import math
-import os
 import warnings
 from pathlib import Path
 
 from ..messages import TaisphWarning
+from ..run.atomic import write_text
 from .plan import SweepError, value_text
 
 # the measured columns, after the run's name and its varied parameters
@@ -37,15 +37,6 @@ def fieldnames(varied: list[str]) -> list[str]:
     return ["run", *varied, *COLUMNS]
 
 
-def _atomic_write(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with open(tmp, "w", newline="") as f:
-        f.write(text)
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
-
-
 def _cell(value) -> str:
     if isinstance(value, float):
         return repr(value) if math.isfinite(value) else str(value)
@@ -60,8 +51,8 @@ def write(folder: Path, varied: list[str], rows: list[dict], title: str) -> None
     writer.writeheader()
     for row in rows:
         writer.writerow({k: value_text(row[k]) if k in varied else _cell(row.get(k)) for k in names})
-    _atomic_write(folder / "sweep.csv", buffer.getvalue())
-    _atomic_write(folder / "sweep.md", markdown(varied, rows, title))
+    write_text(folder / "sweep.csv", buffer.getvalue())
+    write_text(folder / "sweep.md", markdown(varied, rows, title))
 
 
 def _short(value) -> str:
@@ -158,4 +149,4 @@ def check_identity(folder: Path, identity: dict) -> None:
                              "or give another output folder")
         else:
             return
-    _atomic_write(path, json.dumps(identity, indent=2, sort_keys=True) + "\n")
+    write_text(path, json.dumps(identity, indent=2, sort_keys=True) + "\n")
