@@ -54,20 +54,21 @@ def test_p1_impact_time_at_coarse_resolution():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("dx, mae, impact", [(0.02, 0.115, 0.013), (0.01, 0.08, -0.006)])
-def test_p1_and_p2_against_buchner(dx, mae, impact):
+@pytest.mark.parametrize("dx, mae_bar, impact_bar", [(0.02, 0.14, 0.03), (0.01, 0.10, 0.015)])
+def test_p1_and_p2_against_buchner(dx, mae_bar, impact_bar):
     """The example's settings with the symmetric form (seed eqs. 7-8, the example's until
-    issue 26) to T = 6.1 (dx = 0.02 m: 35 s, 0.01 m: 3 min on 2 cores): no guard stops
-    the run; P1's impact within 5 % of the experiment's and its mean absolute error over
-    T in [2, 6] at most 0.15 rho g H (published delta-SPH: 0.10-0.12); P2's at most 0.05.
-    Measured: see the parameters (docs/validation.md)."""
+    issue 26) to T = 6.1 (dx = 0.02 m: 35 s, 0.01 m: 4 min on 2 cores): no guard stops the
+    run; against the experiment, P1's mean absolute error over T in [2, 6] at most 0.14
+    rho g H at dx = 0.02 and 0.10 at 0.01 (measured 0.114 and 0.080; published delta-SPH:
+    0.10-0.12), its impact time within 3 % and 1.5 % of the experiment's (measured +1.3 %
+    and -0.5 %), P2's error at most 0.05 (0.033 and 0.029). Measured for issue 51 (100 s and
+    510 s on 2 busy cores; docs/validation.md: 0.114, 0.080)."""
     result = buchner.run(dx=dx, overrides={"physics.formulation": "symmetric"})
+    print(f"dx {dx}: P1 {result['P1']}, P2 MAE {result['P2']['mae']:.3f}")
     assert result["stopped"] == ""
-    assert abs(result["P1"]["impact_error"]) < 0.05, result["P1"]
-    assert result["P1"]["mae"] <= 0.15, result["P1"]
+    assert abs(result["P1"]["impact_error"]) < impact_bar, result["P1"]
+    assert result["P1"]["mae"] <= mae_bar, result["P1"]
     assert result["P2"]["mae"] <= 0.05, result["P2"]
-    assert result["P1"]["mae"] == pytest.approx(mae, abs=0.03)
-    assert result["P1"]["impact_error"] == pytest.approx(impact, abs=0.02)
 
 
 def test_p1_and_p2_under_dfsph():
@@ -75,8 +76,9 @@ def test_p1_and_p2_under_dfsph():
     instead) at dx = 0.03 to T = 6.1: no guard stops it; P1's impact within 5 % of the
     experiment's, P1's mean absolute error over T in [2, 6] at most 0.15 rho g H (issue 25's
     bar) and P2's at most 0.05; P1's probe noise at most 0.05 (issue 26's bar). Measured
-    (2026-12-03): P1 0.106, impact +2.2 %, P2 0.024, noise 0.018;
-    at dx = 0.02: 0.095, +1.0 %, 0.018 (docs/dfsph.md, "What accuracy costs")."""
+    for issue 51: P1 0.090, impact +2.2 %, P2 0.024, noise 0.019 (2026-12-03, before DFSPH's
+    still-water change: 0.106, +2.2 %, 0.024, 0.018; at dx = 0.02: 0.095, +1.0 %, 0.018;
+    docs/dfsph.md, "What accuracy costs")."""
     result = buchner.run(dx=0.03, overrides={"solver": "dfsph"}, courant=0.5)
     assert result["stopped"] == ""
     assert abs(result["P1"]["impact_error"]) < 0.05, result["P1"]
@@ -90,7 +92,8 @@ def test_p1_and_p2_with_the_riemann_formulation():
     Adams 2017) at dx = 0.03 to T = 6.1: no guard stops it; P1's impact within 5 % of the
     experiment's, its mean absolute error at most 0.15 rho g H and P2's at most 0.05, as
     for the symmetric form; and P1's ringing, the probe noise, at most 0.05 rho g H (issue
-    26's bar). Measured (2026-12-03): P1 0.132, noise 0.007, P2 0.023 (the symmetric form:
+    26's bar; held here at 0.02, about 3x the measured). Measured (2026-12-03, and again for
+    issue 51): P1 0.132, impact +3.5 %, noise 0.007, P2 0.023 (the symmetric form:
     0.122, 0.017, 0.043; docs/validation.md, "What sets the wall pressure")."""
     result = buchner.run(dx=0.03, overrides={"physics.formulation": "riemann", "physics.alpha": 0.0,
                                              "physics.delta": 0.0})
@@ -98,21 +101,30 @@ def test_p1_and_p2_with_the_riemann_formulation():
     assert abs(result["P1"]["impact_error"]) < 0.05, result["P1"]
     assert result["P1"]["mae"] <= 0.15, result["P1"]
     assert result["P2"]["mae"] <= 0.05, result["P2"]
-    assert result["P1"]["noise"] <= 0.05, result["P1"]
+    assert result["P1"]["noise"] <= 0.02, result["P1"]
+
+
+AS_SHIPPED_REFINED_MISSES = pytest.mark.xfail(strict=True, reason=(
+    "a known miss: at dx = 0.01 the example as shipped times P1's impact +5.4 % late, outside the 5 % bar dx = 0.02 "
+    "meets (+2.5 %; MAE 0.086, noise 0.004, P2 0.029 within theirs); docs/validation.md, 'What sets the wall "
+    "pressure': buchner.run(dx=0.01), 429 s"))
 
 
 @pytest.mark.slow
-def test_the_example_as_shipped_against_buchner():
-    """The example as shipped (the Riemann formulation with alpha 0.02 and delta 0.1) at
-    dx = 0.02 m to T = 6.1: P1's impact within 5 % (measured +2.5 %), its mean absolute
-    error at most 0.15 (0.123) and its probe noise at most 0.05 (0.011); P2 at most 0.05
-    (0.024). At dx = 0.01 the impact is +5.4 % late (MAE 0.086, noise 0.004): outside the
-    5 % bar, so not asserted there (docs/validation.md, "What sets the wall pressure")."""
-    result = buchner.run(dx=0.02)
+@pytest.mark.parametrize("dx", [0.02, pytest.param(0.01, marks=AS_SHIPPED_REFINED_MISSES)])
+def test_the_example_as_shipped_against_buchner(dx):
+    """The example as shipped (the Riemann formulation with alpha 0.02 and delta 0.1) to
+    T = 6.1, against the experiment: P1's impact within 5 % (measured +2.5 % at dx = 0.02),
+    its mean absolute error at most 0.15 (0.123) and its probe noise at most 0.03 (0.011);
+    P2 at most 0.05 (0.024); 141 s on 2 busy cores. At dx = 0.01 (the same bars, a strict
+    xfail) the impact is +5.4 % late (MAE 0.086, noise 0.004; docs/validation.md, "What
+    sets the wall pressure"; 429 s)."""
+    result = buchner.run(dx=dx)
+    print(f"dx {dx}: P1 {result['P1']}, P2 MAE {result['P2']['mae']:.3f}")
     assert result["stopped"] == ""
     assert abs(result["P1"]["impact_error"]) < 0.05, result["P1"]
-    assert result["P1"]["mae"] == pytest.approx(0.123, abs=0.03)
-    assert result["P1"]["noise"] <= 0.05, result["P1"]
+    assert result["P1"]["mae"] <= 0.15, result["P1"]
+    assert result["P1"]["noise"] <= 0.03, result["P1"]
     assert result["P2"]["mae"] <= 0.05, result["P2"]
 
 

@@ -3,6 +3,7 @@ solver against physics, its failures, and its place in the command line and scen
 files. The long validations (dx as in the issue) are marked slow; docs/dfsph.md
 gives their measured values."""
 
+import math
 
 import numpy as np
 import pytest
@@ -21,6 +22,13 @@ def dfsph_scene(case="dam_break", **params):
     return scene
 
 
+def ko_scales(scene):
+    """L, the dam break's column width, and sqrt(2 g/L): Koshizuka & Oka's Z = x/L and
+    T = t sqrt(2 g/L)."""
+    L = float(scene.position[scene.kind == taisph.FLUID, 0].max() + scene.dx / 2)
+    return L, math.sqrt(2 * -scene.terms_by_name["gravity"].values["gravity"][1] / L)
+
+
 def mean_compression(sim):
     """DFSPH's error measure: the mean over fluid of max(rho/rho0 - 1, 0)."""
     rho = sim.density()[sim.fluid]
@@ -28,47 +36,58 @@ def mean_compression(sim):
 
 
 def test_still_water_keeps_its_hydrostatic_pressure_quick():
-    """A 1 m x 0.5 m tank at dx = 0.05 for 1 s: rms(p - rho g (H - y)) below 3 % of
-    rho g H (measured 0.10 %; the slow test holds 1 % at dx = 0.0125), water still (max |v|
-    below 1 % of sqrt(g H); measured 0.16 %), no particle through a wall."""
+    """A 1 m x 0.5 m tank at dx = 0.05 for 1 s: rms(p - rho g (H - y)) over the second half
+    below 0.3 % of rho g H (measured 0.103 %; the slow test holds 0.075 % at dx = 0.0125),
+    water still (max |v| over the last quarter below 0.5 % of sqrt(g H); measured 0.160 %),
+    no particle through a wall."""
     out = runs.run("hydrostatic_tank", dx=0.05, solver="dfsph", t_end=1.0, samples=4)
     assert not out.diverged
-    assert out.error < 0.03, out.metrics
-    assert out.metrics["vmax_last_quarter"] < 0.01
+    assert out.error < 0.003, out.metrics
+    assert out.metrics["vmax_last_quarter"] < 0.005, out.metrics
     assert out.metrics["particles_outside"] == 0
 
 
 @pytest.mark.slow
 def test_still_water_keeps_its_hydrostatic_pressure():
-    """Issue 14: rms pressure error <= 1 % of rho g H (dx = 0.0125, 2 s; measured 0.024 %,
-    0.93 % before the pressure force's lattice scale and the pairing repulsion)."""
+    """Issue 14 asked for 1 %: rms pressure error over the second half <= 0.075 % of rho g H
+    (dx = 0.0125, 2 s; measured 0.0237 %, 14 s on 2 cores; 0.93 % before the pressure
+    force's lattice scale and the pairing repulsion)."""
     out = runs.run("hydrostatic_tank", dx=0.0125, solver="dfsph", t_end=2.0, samples=10)
-    assert out.error <= 0.01, out.metrics
+    assert out.error <= 0.00075, out.metrics
     assert out.metrics["particles_outside"] == 0
 
 
 def test_dam_break_stays_incompressible_and_runs_quick():
-    """dx = 0.04 to t = 0.4 s: mean compression <= 0.5 % in every frame; the solves
-    converge to their 0.1 % with few iterations; the front has moved."""
-    sim = taisph.Simulation(dfsph_scene(dx=0.04))
-    compression = []
-    for k in range(1, 5):
-        summary = sim.run(0.1 * k, frames=1)
+    """dx = 0.04, stepped to each of Koshizuka & Oka's times after the release up to
+    T = t sqrt(2 g/L) = 3.1 (t = 0.70 s; L = 1 m, the column's width): the surge front
+    Z = (max x + dx/2)/L has a mean |Z - Z_KO| over those 8 points of at most 0.20
+    (measured 0.161; the slow test's bar at dx = 0.02, where it measures 0.193, and about the
+    model's own distance from the experiment, 0.215 at dx = 0.005, so no tighter); the mean
+    compression at those times is at most 0.06 % (measured 0.0196 % at worst); the last
+    stretch's solves met their 0.02 % tolerance with 2-20 iterations on average (5.2)."""
+    ko, _ = runs.reference("koshizuka_oka_1996_surge_front_pysph.csv")
+    scene = dfsph_scene(dx=0.04)
+    L, scale_T = ko_scales(scene)
+    sim = taisph.Simulation(scene)
+    compression, dz = [], []
+    for T, Z in ko[ko[:, 0] > 0]:
+        summary = sim.run(T / scale_T, frames=1)
         compression.append(mean_compression(sim))
-    assert max(compression) <= 0.005, compression
+        dz.append((sim.positions()[sim.fluid][:, 0].max() + scene.dx / 2) / L - Z)
+    print(f"mean |Z - Z_KO| {np.mean(np.abs(dz)):.3f}, worst compression {max(compression):.4%}")
+    assert len(dz) == 8 and np.mean(np.abs(dz)) <= 0.20, dz
+    assert max(compression) <= 0.0006, compression
     stats = summary.pressure_solve
     assert stats["density_error_max"] <= sim.controls.dfsph_tolerance
     assert 2 <= stats["density_iterations_mean"] < 20
-    x = sim.positions()[sim.fluid]
-    assert x[:, 0].max() > 1.5  # the surge has left the column (1 m)
     assert "DFSPH iterations per step: density" in str(summary)
 
 
 @pytest.mark.slow
 def test_dam_break_front_and_compression_against_koshizuka_oka():
     """Issue 14: at dx = 0.02 the surge front's mean |Z - Z_KO| (T <= 3.1) <= 0.20
-    (measured 0.189; WCSPH's default 0.150), and the mean compression <= 0.5 % in every
-    frame (measured at most 0.013 %)."""
+    (measured 0.193; WCSPH's default 0.151), and the mean compression at most 0.03 % in
+    every frame, 0.05 s apart to 1 s (measured at most 0.0095 %; issue 14 asked for 0.5 %)."""
     out = runs.run("dam_break", dx=0.02, solver="dfsph", T_end=3.1)
     assert out.error <= 0.20, out.metrics
     sim = taisph.Simulation(dfsph_scene(dx=0.02))
@@ -76,8 +95,8 @@ def test_dam_break_front_and_compression_against_koshizuka_oka():
     for k in range(1, 21):
         sim.run(0.05 * k, frames=1)
         worst = max(worst, mean_compression(sim))
-    print(f"worst frame's mean compression {worst:.3%}")
-    assert worst <= 0.005
+    print(f"front {out.error:.3f}, worst frame's mean compression {worst:.4%}")
+    assert worst <= 0.0003
 
 
 def test_a_solve_that_does_not_converge_stops_the_run_and_says_why(tmp_path):
@@ -225,13 +244,24 @@ def test_memory_and_pair_list_capacity():
     sim = taisph.Simulation(dfsph_scene(dx=0.1))
     k = pairs.capacity(sim.scene)
     assert k == 32  # 2D, h = 1.3 dx: 20 neighbours on the lattice, 21.2 in a disc
-    # 6 vectors, 9 scalars (kappa_prev: the Chebyshev iteration), 3 integers (current, sorted, last good), cell, list count and entries
+    # 6 vectors, 9 scalars (kappa_prev: the Chebyshev iteration), 3 integers (current, sorted, last good),
+    # cell, list count and entries
     assert sim.bytes_per_particle() == 3 * (6 * 16 + 9 * 8 + 3 * 4) + 4 + 4 + 32 * 12 == 932
 
 
 def test_the_rest_density_is_the_lattice_s():
+    """The solve's rest ratio is sum_j dx^2 W(x_i - x_j) over a square lattice, computed here
+    independently with Monaghan's 2D cubic spline (sigma = 10 / (7 pi h^2), support 2h,
+    h = 1.3 dx), to 1e-12."""
     scene = dfsph_scene(dx=0.1)
-    assert dfsph.lattice_ratio(scene) == pytest.approx(0.99995, abs=1e-5)
+    h, dx = scene.smoothing_length, scene.dx
+    assert h == pytest.approx(1.3 * dx)
+    n = np.arange(-3, 4)
+    q = np.hypot(*np.meshgrid(n, n)).ravel() * dx / h
+    w = np.where(q < 1, 1 - 1.5 * q**2 + 0.75 * q**3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0))
+    expected = 10 / (7 * math.pi * h**2) * w.sum() * dx**2
+    assert dfsph.lattice_ratio(scene) == pytest.approx(expected, rel=1e-12)
+    assert abs(expected - 1) < 1e-4  # the spline's lattice sum is 0.99995, not 1
 
 
 def test_command_line_solver_option(capsys):
@@ -248,12 +278,29 @@ def test_command_line_solver_option(capsys):
     assert "solver must be one of wcsph, dfsph" in capsys.readouterr().err
 
 
+COUETTE_BAR = 0.008  # max |u - u_exact| / V0 at t = 0.1125 s: about 3x what dx = 1e-4 measures
+
+
 def test_a_moving_wall_drives_the_fluid_couette():
-    """Couette start-up under DFSPH: laminar viscosity with no-slip walls; the profile
-    approaches the exact one (max |u - u_exact| / V0 < 0.1 at t = 0.1125 s, dx = 1e-4)."""
+    """Couette start-up under DFSPH (laminar viscosity, no-slip walls) at dx = 1e-4 (L/10):
+    max |u - u_exact| / V0 at t = 0.1125 s below 0.8 % (measured 0.26 %; 1.04 % at
+    t = 0.0225 s, not asserted). Refining does not bring it nearer: at dx = 5e-5 it is 8.8 %
+    (the strict xfail below; docs/dfsph.md, "What accuracy costs")."""
     out = runs.run("couette", dx=1e-4, solver="dfsph", times=(0.0225, 0.1125))
     assert not out.diverged
-    assert out.metrics["linf_t0.1125"] < 0.1, out.metrics
+    assert out.metrics["linf_t0.1125"] < COUETTE_BAR, out.metrics
+
+
+@pytest.mark.xfail(strict=True, reason="a known miss: measured max |u - u_exact| / V0 = 0.088 at t = 0.1125 s, "
+                   "dx = 5e-5, against the bar 0.008 that dx = 1e-4 meets (0.0026): with a wall speed of "
+                   "1.25e-5 m/s the velocity noise the 0.02 % density tolerance allows is comparable to the "
+                   "flow (docs/dfsph.md); runs.run('couette', dx=5e-5, solver='dfsph'), 12 s")
+def test_a_moving_wall_drives_the_fluid_couette_refined():
+    """The Couette start-up under DFSPH at dx = 5e-5 (L/20) held to the bar dx = 1e-4 meets
+    (0.8 % at t = 0.1125 s). Expected to fail (measured 8.8 %); a pass means the fix."""
+    out = runs.run("couette", dx=5e-5, solver="dfsph", times=(0.0225, 0.1125))
+    assert not out.diverged
+    assert out.metrics["linf_t0.1125"] < COUETTE_BAR, out.metrics
 
 
 def test_a_scene_file_may_ask_for_dfsph(tmp_path, capsys):
@@ -271,24 +318,31 @@ def test_a_scene_file_may_ask_for_dfsph(tmp_path, capsys):
 def test_the_divergence_solve_runs_when_it_has_work():
     """With a tolerance below the divergence error of every step the divergence solve
     iterates (by default it is skipped while the error is within 0.1 % before any
-    iteration); it converges and the flow stays incompressible."""
+    iteration); it converges (dx = 0.05, to 0.2 s; 38 iterations a step on average) and
+    the mean compression at the end is at most 0.08 % (measured 0.026 %)."""
     sim = taisph.Simulation(dfsph_scene(dx=0.05), dfsph_divergence_tolerance=1e-5)
     summary = sim.run(0.2, frames=1)
     stats = summary.pressure_solve
     assert stats["divergence_iterations_mean"] >= 1
     assert stats["divergence_error_max"] <= 1e-5
-    assert mean_compression(sim) <= 0.005
+    assert mean_compression(sim) <= 0.0008
     assert ("dfsph", "divergence solve") in set(taisph.engine.kernels.TRACED)
 
 
 def test_a_3d_dam_break_runs_incompressible():
-    """3D (dx = 0.1, to 0.3 s): the solve converges (relaxation 0.3 in 3D), the mean
-    compression stays below 0.5 %, the water has started to spread."""
-    sim = taisph.Simulation(dfsph_scene("dam_break_3d", dx=0.1))
-    summary = sim.run(0.3, frames=1)
+    """3D (dx = 0.1; the 1 m wide, 2 m high column of the 2D case, 1 m deep) to Koshizuka &
+    Oka's T = t sqrt(2 g/L) = 1.153 (t = 0.26 s): the solve converges (relaxation 0.3 in 3D),
+    the mean compression is at most 0.0015 % (measured 0.00052 %), and the surge front
+    (max x + dx/2)/L is within 0.10 of the experiment's 1.505 (measured 1.507)."""
+    scene = dfsph_scene("dam_break_3d", dx=0.1)
+    L, scale_T = ko_scales(scene)
+    sim = taisph.Simulation(scene)
+    summary = sim.run(1.153 / scale_T, frames=1)
+    front = (sim.positions()[sim.fluid][:, 0].max() + scene.dx / 2) / L
+    print(f"front {front:.3f}, mean compression {mean_compression(sim):.2e}")
     assert summary.pressure_solve["density_error_max"] <= sim.controls.dfsph_tolerance
-    assert mean_compression(sim) <= 0.005
-    assert sim.positions()[sim.fluid][:, 0].max() > 1.2
+    assert mean_compression(sim) <= 1.5e-5
+    assert abs(front - 1.505) <= 0.10, front
 
 
 def test_deterministic_runs_agree_bit_for_bit():
@@ -314,8 +368,9 @@ def test_a_force_probe_reads_the_pressure_force_of_dfsph():
     the walls from the solve's pressures (p_wall = p_i and the walls' hydrostatic head, as in
     DFSPH's momentum equation; it read 0 before). Still water (dx = 0.05, 0.3 s, sampled every
     step after the first 0.1 s): the force on the whole tank is the water's weight M g within
-    1 % vertically (measured 0.3 % at worst) and has no horizontal part (below 1e-9 M g;
-    measured 4e-15: the tank is symmetric)."""
+    0.35 % vertically at every sample (measured 0.115 % at worst; 0.3 % before DFSPH's
+    still-water change) and has no horizontal part (below 1e-9 M g; measured 2e-15: the
+    tank is symmetric)."""
     from taisph.probes import Probes, force
 
     scene = dfsph_scene("hydrostatic_tank", dx=0.05)
@@ -327,8 +382,9 @@ def test_a_force_probe_reads_the_pressure_force_of_dfsph():
     sim.close()
     _, F = probes.series("F")
     assert len(F) > 10
-    print(f"force/weight - 1: {np.abs(-F[:, 1] / weight - 1).max():.2e}, max |F_x|/weight {np.abs(F[:, 0]).max() / weight:.1e}")
-    assert np.all(np.abs(-F[:, 1] / weight - 1) < 0.01), F[:, 1] / weight
+    print(f"force/weight - 1: {np.abs(-F[:, 1] / weight - 1).max():.2e}, "
+          f"max |F_x|/weight {np.abs(F[:, 0]).max() / weight:.1e}")
+    assert np.all(np.abs(-F[:, 1] / weight - 1) < 0.0035), F[:, 1] / weight
     assert np.all(np.abs(F[:, 0]) < 1e-9 * weight), F[:, 0] / weight
 
 
