@@ -1,7 +1,9 @@
 """Water entry (issue 28, check 6, a demonstration; cases/water_entry.py): a cylinder of
 half the water's density (D = 0.11 m) enters still water at sqrt(2 g 0.5 m) = 3.13 m/s
 (Greenhow & Lin 1983), plunges and comes to float half submerged: no fluid particle lost
-or inside the cylinder, and at the end it floats at Archimedes' height, nearly at rest."""
+or inside the cylinder. At the end it should float at Archimedes' height for its own mass,
+at rest; both are known misses at dx 0.005 (strict xfails with their measured values: the
+splash's film weighs it down, the closed tank's slosh keeps it bobbing)."""
 
 import functools
 
@@ -125,30 +127,47 @@ def test_a_cylinder_enters_the_water_quick():
 @functools.lru_cache(maxsize=1)
 def fine_run():
     """Issue 28, check 6, dx = 0.005 m (D/dx = 22), 1 m x 0.5 m tank, to 4 s (one run for
-    the two slow tests)."""
+    the three slow tests: 24 min of CPU on one thread at load 4-7, 2026-12-07)."""
     return entry_run(0.005, 4.0)
 
 
-@pytest.mark.slow
-def test_a_cylinder_dropped_into_water_comes_to_float():
-    """Issue 28, check 6, dx = 0.005 m: no fluid particle lost, the state finite
-    (entry_run); over the last second (3-4 s) its centre's mean height is within 0.5 dx
-    of Archimedes' for its mass plus the water resting on its top (:func:`film`: the splash
-    leaves a film there, which the wall friction holds; that water came from the tank, whose
-    level it lowers), and its kinetic energy stays below 1 % of its energy at entry
-    (m 3.13^2 / 2): it has come to rest but for a bob on the closed tank's sloshing, which
-    a 1 m tank with reflecting walls keeps up (amplitude 1-2.5 dx, period about 0.8 s)."""
-    dx = 0.005
+def last_second(dx=0.005):
+    """The fine run's last second (3-4 s): the centre's mean height less Archimedes' for
+    the cylinder's own mass, in dx; its largest speed (m/s); and, reported beside (not
+    asserted), the film of water on its top (:func:`film`, kg/m) and the height less
+    Archimedes' for its mass plus the film's, the tank (1 m wide) having given that water."""
     t, y, speed, _, _, films = fine_run()
     last = t >= t[-1] - 1.0
     ex = expected(dx=dx)
-    load = films[last].mean()  # kg per metre
-    loaded = expected(dx=dx, density=(ex["mass"] + load) / ex["area"])
-    centre = loaded["centre"] - load / 1000.0 / 1.0  # the tank (1 m wide) gave that water
-    print(f"film {load:.4f} kg/m ({load / ex['mass']:.2%} of the cylinder's mass); mean height - Archimedes: "
-          f"{(y[last].mean() - ex['centre']) / dx:.3f} dx without the film, {(y[last].mean() - centre) / dx:.3f} dx with it")
-    assert abs(y[last].mean() - centre) < 0.5 * dx, (y[last].mean(), centre, ex["centre"])
-    assert (speed[last] ** 2).max() < 0.01 * 2 * 9.81 * 0.5, speed[last].max()
+    load = films[last].mean()
+    loaded = expected(dx=dx, density=(ex["mass"] + load) / ex["area"])["centre"] - load / 1000.0 / 1.0
+    found = {"height": (y[last].mean() - ex["centre"]) / dx, "speed": speed[last].max(), "film": load,
+             "film share": load / ex["mass"], "height with the film": (y[last].mean() - loaded) / dx}
+    print({key: round(float(value), 4) for key, value in found.items()})
+    return found
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="measured 2026-12-07 (dx 0.005, 3-4 s): 0.614 dx below Archimedes' height "
+                   "for its own mass; the splash's film on its top, 0.432 kg/m (9.0 % of its mass) held by the "
+                   "wall friction, weighs it down (0.169 dx above the height for its mass plus the film's)")
+def test_a_cylinder_dropped_into_water_floats_at_archimedes_height():
+    """Issue 28, check 6, dx = 0.005 m: over the last second (3-4 s) the cylinder's mean
+    centre height within 0.5 dx of Archimedes' for its own mass (lattice area x 500
+    kg/m^3). A known miss (strict xfail): the film the splash leaves on its top rides with
+    it (:func:`last_second` prints its mass and the height it would give)."""
+    assert abs(last_second()["height"]) < 0.5
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="measured 2026-12-07 (dx 0.005): up to 0.0667 m/s over 3-4 s (0.0645 m/s at "
+                   "4 s): it bobs on the closed 1 m tank's sloshing (1-2.5 dx, period about 0.8 s), which the "
+                   "case's reflecting walls keep up")
+def test_a_cylinder_dropped_into_water_comes_to_rest():
+    """Issue 28, check 6, dx = 0.005 m: over the last second (3-4 s) the cylinder's speed
+    stays below 0.05 m/s (1.6 % of its entry speed, 3.13 m/s). A known miss (strict
+    xfail): the tank's slosh, not the float, keeps it moving."""
+    assert last_second()["speed"] < 0.05
 
 
 @pytest.mark.slow
