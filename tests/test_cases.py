@@ -52,7 +52,9 @@ def test_case_steps_with_physical_sense(name, params):
         height = x0[:, 1].max() - x0[:, 1].min()
         assert np.linalg.norm(v, axis=1).max() < 0.01 * np.sqrt(g * height)
     elif kind == DRIVEN:
-        assert momentum[0] > 0 and abs(momentum[1]) < 1e-3 * momentum[0]  # measured <= 1e-5
+        # measured 2026-12-07 (`pytest -n 0 -s tests/test_cases.py -k "poiseuille or couette or channel or
+        # cylinder"` with a print, 64 s): couette 9.6e-6, cylinder 1.2e-8, channel and poiseuille round-off; 3x the most
+        assert momentum[0] > 0 and abs(momentum[1]) < 3e-5 * momentum[0]
     else:
         assert np.abs(momentum).max() < 1e-10 * scale
     sim.close()

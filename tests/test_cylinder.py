@@ -78,42 +78,52 @@ def test_the_command_line_writes_the_probes(tmp_path):
 
 def test_drag_at_coarse_resolution():
     """D/dx = 10, 4 s (the 1 s ramp, then the flow about the cylinder steady within the
-    noise after ~2 s; its last 2 s averaged; ~85 s on one thread). Measured with the
-    case's defaults (rings, summed density, particle shifting, no background pressure;
-    2026-12-06): C_D 5.70 (+2.1 %), dp 0.1173 Pa (-0.2 %), C_L -0.03, the channel's mass
-    +0.26 % (the staircase before rings were the default: C_D +5.0 %, dp -3.4 %).
-    Asserted:
-    - the drag within 15 % of the reference: at D/dx = 10 the boundary layer (thickness
-      ~ D / sqrt(Re) = 2 dx) is barely resolved; further off is a broken wall, viscosity
-      or force probe (with a background pressure of 0.3 Pa the drag was +25 %: its
-      spurious force, docs/validation.md);
-    - the pressure difference front - back within 15 % of the reference;
-    - the lift is small: |C_L| < 0.1 C_D (the channel is nearly symmetric);
-    - the open boundaries work: the mass that entered is the inflow's integral
-      0.41 U (t - ramp/2) within 2 %, the channel's mass stays within 1 %, the inlet's
-      buffer keeps its particles and no fluid leaks into the walls."""
+    noise after ~2 s; its last 2 s averaged) with the case's defaults (rings, summed
+    density, particle shifting, no background pressure). Measured 2026-12-07 (`pytest -n 0
+    -s tests/test_cylinder.py -k drag_at_coarse` with a print, 247 s under load; 85 s on an
+    idle thread): C_D 5.697 (+2.1 %), dp 0.11725 Pa (-0.2 %), C_L -0.034, the channel's mass
+    +0.26 %, the mass in +0.24 % of the inflow's integral (the staircase before rings were
+    the default: C_D +5.0 %, dp -3.4 %). The window means are noisy (`python
+    /tmp/s51/cyl.py`, 2026-12-07, 244 s: the same run read over shorter windows): C_D +1.3 %
+    and +2.9 % over 2-3 and 3-4 s, -2.3 to +5.0 % over half seconds (the 2 s mean's
+    standard error ~1.6 %); dp +2.6 % and -3.0 % over seconds, -7.3 to +12.1 % over half
+    seconds (standard deviation 9 %, ~4.5 % for the 2 s mean); the VM's processors differ
+    in round-off, so the noise, not the 2 s mean's error, sets the bars. Asserted:
+    - the drag within 7 % of the reference (3x the error; 2.1 % + 3 x 1.6 % noise);
+    - the pressure difference front - back within 12 % of the reference (~3x its noise:
+      the error itself, -0.2 %, is far below it);
+    - the lift is small: |C_L| < 0.1 C_D (the channel is nearly symmetric; C_L's window
+      noise is not measured, so this bar is not tightened);
+    - the open boundaries work, the inlet's contract rather than the benchmark: the mass
+      that entered is the prescribed inflow's integral 0.41 U (t - ramp/2) within 0.75 %
+      (3x), the channel's mass stays within 0.75 % (3x), the inlet's buffer keeps its
+      particles and no fluid leaks into the walls."""
     t_end = 4.0
     out = run(0.01, t_end, window=2.0)
-    assert out["C_D"] == pytest.approx(REFERENCE["C_D"], rel=0.15), out
-    assert out["dp"] == pytest.approx(REFERENCE["dp"], rel=0.15), out
+    assert out["C_D"] == pytest.approx(REFERENCE["C_D"], rel=0.07), out
+    assert out["dp"] == pytest.approx(REFERENCE["dp"], rel=0.12), out
     assert abs(out["C_L"]) < 0.1 * out["C_D"], out
-    assert out["mass_in"] == pytest.approx(RHO * H * 0.2 * (t_end - 0.5), rel=0.02), out
-    assert abs(out["mass_change"]) < 0.01, out
+    assert out["mass_in"] == pytest.approx(RHO * H * 0.2 * (t_end - 0.5), rel=0.0075), out
+    assert abs(out["mass_change"]) < 0.0075, out
     assert out["extra_inlet_buffer"] == 0 and out["fluid_in_walls"] == 0, out
 
 
 @pytest.mark.slow
 def test_the_benchmark_bar_at_twenty_particles_per_diameter():
     """D/dx = 20 to t = 6 s, the last 2 s averaged: C_D within 5 % and dp within 10 % of
-    Schaefer & Turek's. Measured with the case's defaults (rings; 2026-12-06, 894 s on
-    one thread): C_D 5.612 (+0.6 %), dp 0.1190 Pa (+1.3 %), C_L -0.008, mass +0.2 %. The
-    means of single seconds swing: C_D 5.59, 5.66, 5.62, 5.60 and dp 0.107, 0.131, 0.123,
-    0.115 Pa over 2-3, 3-4, 4-5, 5-6 s (the staircase's C_D 5.60, 5.66, 5.47, 5.88: a slow
-    oscillation of the channel under the samples' noise), so the 2 s window matters."""
+    Schaefer & Turek's: the issue's benchmark bars (the accuracy asked of the case at this
+    resolution), kept as they are, not 3x bars of the measurement. Measured with the case's
+    defaults (rings; 2026-12-06, 894 s on one thread): C_D 5.612 (+0.6 %), dp 0.1190 Pa
+    (+1.3 %), C_L -0.008, mass +0.2 %. The means of single seconds swing: C_D 5.59, 5.66,
+    5.62, 5.60 and dp 0.107, 0.131, 0.123, 0.115 Pa over 2-3, 3-4, 4-5, 5-6 s (the
+    staircase's C_D 5.60, 5.66, 5.47, 5.88: a slow oscillation of the channel under the
+    samples' noise), so the 2 s window matters. The channel's mass within 0.75 % (~3x the
+    measured +0.2 %; the same bar as at D/dx = 10, where +0.26 % was measured twice;
+    tightened 2026-12-07 from 1 % without a rerun)."""
     out = run(0.005, 6.0, window=2.0)
     assert out["C_D"] == pytest.approx(REFERENCE["C_D"], rel=0.05), out
     assert out["dp"] == pytest.approx(REFERENCE["dp"], rel=0.10), out
-    assert abs(out["mass_change"]) < 0.01, out
+    assert abs(out["mass_change"]) < 0.0075, out
     assert out["extra_inlet_buffer"] == 0 and out["fluid_in_walls"] == 0, out
 
 

@@ -253,24 +253,29 @@ def test_dam_break_runs_to_3_s_with_physical_speeds_and_no_compression(dx):
     """dam_break --solver dfsph with no other option to t = 3 s (through the impact, the
     run-up and the wave's return): no step's fastest fluid particle above 1.5 x the
     flow's fastest physical speed (measured with the defaults: 9.9, 11.9, 13.3 m/s at
-    dx = 0.04, 0.02, 0.01; 13.7 at 0.005, docs/dfsph.md), the mean compression within 0.1 %
-    in every frame (measured at most 0.024 %), and the fluid mass accounted (fluid + removed = initial, 1e-12). The
-    issue's run at dx = 0.01 had a particle at 3.5e5 m/s near t = 0.99 s."""
+    dx = 0.04, 0.02, 0.01; 13.7 at 0.005, docs/dfsph.md), the mean compression within
+    0.075 % in every frame (3x the measured: 0.0254 % at dx = 0.04, 2026-12-07, `pytest -n 0
+    -s tests/test_dfsph_robust.py -k no_compression` with a print, ~30 s; at most 0.024 %
+    quoted before for the three; the slow spacings' bar tightened from 0.1 % without a
+    rerun), and the fluid mass accounted (fluid + removed = initial, 1e-12). The issue's
+    run at dx = 0.01 had a particle at 3.5e5 m/s near t = 0.99 s."""
     sim, summary, speed, compression = run_dam_break_to_the_end(dx)
     assert summary.sim_time == pytest.approx(3.0)
     assert speed <= 1.5 * PHYSICAL_SPEED, speed
-    assert max(compression) <= 1e-3, max(compression)
+    assert max(compression) <= 7.5e-4, max(compression)
     initial = float(sim.scene.mass[sim.scene.kind == taisph.FLUID].sum())
     assert summary.fluid_mass + summary.removed_mass == pytest.approx(initial, rel=1e-12)
 
 
 @pytest.mark.parametrize("dx", [0.02, pytest.param(0.01, marks=pytest.mark.slow)])
 def test_the_step_count_does_not_depend_on_writing_frames(dx):
-    """To t = 1 s, the run with 20 frames and the run without take step counts within 20 %
+    """To t = 1 s, the run with 20 frames and the run without take step counts within 7 %
     of each other (the issue: 13 301 steps without frames, 1 748 with: a rogue particle in
-    one of them throttled its step; measured now at dx = 0.01: within 3 %)."""
+    one of them throttled its step). Measured: at dx = 0.02 494 and 494 steps (2026-12-07,
+    `pytest -n 0 -s tests/test_dfsph_robust.py -k does_not_depend_on_writing` with a print);
+    at dx = 0.01 within 1.8-2.2 % (slow, not rerun); the bar is 3x the larger."""
     counts = [taisph.Simulation(dfsph_scene(dx=dx)).run(1.0, frames=frames).steps for frames in (0, 20)]
-    assert abs(counts[1] / counts[0] - 1.0) <= 0.2, counts
+    assert abs(counts[1] / counts[0] - 1.0) <= 0.07, counts
 
 
 @pytest.mark.slow

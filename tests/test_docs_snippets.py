@@ -33,6 +33,10 @@ printed); figures that vary with the machine and the load (wall time, ``ready in
 particle-steps/s, steps/s, ns per step, elapsed time, a worker's host:pid, a sweep table's
 timing columns) are masked on both sides. Paths inside the copy are printed relative to it.
 
+The printed numbers compared here are regression fingerprints of the docs' output (that a
+page still shows what its code prints), not validation: no comparison here claims agreement
+with an experiment or an exact solution; those bars are in the tests of each case.
+
 The fast part (every block not ``slow``) runs in about two minutes on two cores.
 """
 

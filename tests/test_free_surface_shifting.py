@@ -64,12 +64,14 @@ def _surface_rise_and_pressure(scene, seconds):
 def test_still_water_keeps_its_surface_under_shifting(tmp_path):
     """A 1 m x 0.5 m tank of still water (the scene files' defaults, symmetric form,
     dx = 0.025) with particle shifting at U = 3 m/s (~sqrt(2 g H)) for 2 s: with the
-    free-surface rule the top particle rises less than 0.5 dx and the hydrostatic
-    pressure stays within 1 % rms of rho g H (measured 2026-12-05: 0.02 dx and 0.21 %;
-    without shifting 0.0004 dx and 0.22 %; at 5 s 1.01 % against 0.42 % without
-    shifting: shifting at this U, far above still water's speeds, costs pressure
-    accuracy over time). Without the rule the shift pushes the surface out: the top
-    particle rose 22 dx (held: more than 1 dx), so the rule is what holds the surface."""
+    free-surface rule the top particle rises less than 0.07 dx and the pressure stays within
+    0.63 % rms of the hydrostatic rho g (H - y) (of rho g H). Measured 2026-12-07 (`pytest
+    -n 0 -s tests/test_free_surface_shifting.py -k keeps_its_surface` with a print, 59 s):
+    0.0235 dx and 0.209 % (2026-12-05: 0.02 dx and 0.21 %; without shifting 0.0004 dx and
+    0.22 %; at 5 s 1.01 % against 0.42 % without shifting: shifting at this U, far above
+    still water's speeds, costs pressure accuracy over time); the bars are 3x those.
+    Without the rule the shift pushes the surface out: the top particle rose 21.9 dx
+    (held: more than 7 dx, a third of it), so the rule is what holds the surface."""
     path = tmp_path / "still.toml"
     path.write_text(STILL)
     scene, _ = load(path)
@@ -77,13 +79,13 @@ def test_still_water_keeps_its_surface_under_shifting(tmp_path):
     assert shifting.options == {"free_surface": True}
     assert term_from_data(term_to_data(shifting)).options == {"free_surface": True}  # kept by checkpoints
     rise, rms = _surface_rise_and_pressure(scene, 2.0)
-    assert rise < 0.5, rise
-    assert rms < 0.01, rms
+    assert rise < 0.07, rise
+    assert rms < 0.0063, rms
 
     scene, _ = load(path)
     scene.terms = [ParticleShifting(shift_speed=3.0) if t.name == "particle_shifting" else t for t in scene.terms]
     rise_without, _ = _surface_rise_and_pressure(scene, 2.0)
-    assert rise_without > 1.0, rise_without
+    assert rise_without > 7.0, rise_without
 
 
 def test_scene_file_shifting_is_checked(tmp_path):

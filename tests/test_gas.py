@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import taisph
+from taisph.engine import smoothing
 from taisph.scene import gas
 from taisph.cases.sedov import shock_radius
 from taisph.cases.sod import compare, tube
@@ -138,17 +139,23 @@ def test_seed_energy_form_is_the_seeds_equation_11():
 
 
 def test_variable_smoothing_length_follows_density():
-    """h = eta m / rho (1D) on a uniform periodic lattice, with rho by summation: h of
-    every particle is eta dx (1 + eps)^-1, eps the cubic spline's lattice-sum error
-    at h = 1.2 dx (+0.0018, tests/test_kernels.py's kind of lattice sum)."""
+    """h = eta m / rho (1D) on a uniform periodic lattice, with rho by summation: rho of
+    every particle is the scene's kernel (the cubic spline) summed over the lattice at the
+    initial h = eta dx, sum_j dx W(j dx, 1.2 dx) = 1 + eps (eps = +0.0018: the lattice-sum
+    error, computed here as tests/test_kernels.py does, not pinned), to 1e-6; h of every
+    particle is then eta dx / rho to round-off."""
     dx = 0.01
     scene = taisph.Scene("line", dim=1, dx=dx, smoothing_length=0.02, domain=(0.0, 1.0), periodic=(True,),
                          eos=gas.IdealGas(), materials=[taisph.Gas(gamma=1.4)],
                          terms=gas.effects(variable_h=True, h_factor=1.2))
     scene.add_fluid(((np.arange(100) + 0.5) * dx)[:, None], mass=dx, density=1.0, energy=1.0)
+    offsets = np.arange(-3, 4)[:, None] * dx  # the cubic spline's support at 1.2 dx is 2.4 dx
+    w, _ = smoothing.evaluate(scene.kernel, 1, offsets, 1.2 * dx)
+    lattice_sum = float(w.sum() * dx)
+    assert lattice_sum == pytest.approx(1.0018, abs=1e-4)  # the quoted eps, for the reader
     sim = taisph.Simulation(scene)
     rho = sim.density()
-    np.testing.assert_allclose(rho, 1.0018004, rtol=1e-6)
+    np.testing.assert_allclose(rho, lattice_sum, rtol=1e-6)
     np.testing.assert_allclose(sim.quantity("h"), 1.2 * dx / rho, rtol=1e-12)
 
 
@@ -201,21 +208,26 @@ def test_sod_errors_fall_with_resolution(sod_runs):
 
 
 def test_sod_plateaus_and_shock(sod_runs):
-    """At 400 left particles: p* and u* within 0.5 % of Toro's 0.30313 and 0.92745
-    (measured -0.2 %, +0.08 %), rho*_L and rho*_R within 1 % (measured -0.1 %, -0.4 %),
-    the shock within one smoothing length of x0 + 1.75216 t (measured 0.22 h ahead)."""
+    """At 400 left particles, against Toro's exact solution: p* within 0.5 % of 0.30313,
+    u* within 0.25 % of 0.92745, rho*_L within 0.3 % of 0.42632, rho*_R within 1 % of
+    0.26557, the shock within 0.66 h of x0 + 1.75216 t. Measured 2026-12-07 (`pytest -n 0
+    -s tests/test_gas.py -k "sod_plateaus or sod_positivity"` with a print, 36 s): p* -0.22 %,
+    u* +0.077 %, rho*_L -0.098 %, rho*_R -0.36 %, the shock 0.221 h ahead; the bars are
+    about 3x those (p* 2.3x and rho*_R 2.8x: the bars they had, not loosened)."""
     r = sod_runs[400][3]
     assert r["p_star"] == pytest.approx(0.30313, rel=5e-3)
-    assert r["u_star"] == pytest.approx(0.92745, rel=5e-3)
-    assert r["rho_star_left"] == pytest.approx(0.42632, rel=1e-2)
+    assert r["u_star"] == pytest.approx(0.92745, rel=2.5e-3)
+    assert r["rho_star_left"] == pytest.approx(0.42632, rel=3e-3)
     assert r["rho_star_right"] == pytest.approx(0.26557, rel=1e-2)
-    assert abs(r["shock"] - r["shock_exact"]) < r["h_shock"]
+    assert abs(r["shock"] - r["shock_exact"]) < 0.66 * r["h_shock"]
 
 
 def test_sod_positivity_and_energy(sod_runs):
     """Density and internal energy stay positive - indeed within the exact solution's
     range less 1 % (rho >= 0.125, e >= 1.7776) - and the tube's total energy
-    sum m (e + u^2/2) (closed: reflecting ends) is conserved to 1e-5 (measured 5e-7)."""
+    sum m (e + u^2/2) (closed: reflecting ends) is conserved to 1e-5: measured 2026-12-07
+    (the command above) -3.3e-6 at 200 and -1.7e-6 at 400 left particles (5e-7 was quoted
+    before: stale), so the bar is 3x the larger."""
     for scene, state0, state, r in sod_runs.values():
         assert r["rho_min"] > 0.99 * 0.125 and r["e_min"] > 0.99 * 1.7776
         energy = lambda s: (s["m"] * (s["e"] + 0.5 * s["u"] ** 2)).sum()  # noqa: E731

@@ -27,11 +27,15 @@ def still_tank(dx=0.02, walls="dummy"):
 
 def test_still_tank_pressure_elevation_and_floor_force():
     """After 0.3 s (about 20 acoustic periods H/c0) in a dummy-wall tank, every 10th
-    step: the pressure 0.4 m deep reads rho0 g (H - y) within 1 % (measured -0.3 %);
-    a point 0.15 m (5.8 h) above the water reads no value; the gauge reads H within
-    dx/10 (measured 1e-4 m); the force on the floor is the weight rho0 g H L within
-    0.5 % (measured 0.08 %; the side walls carry none of it: the whole tank's
-    vertical force equals the floor's within 0.1 %) and has no horizontal part."""
+    step: the pressure 0.4 m deep reads rho0 g (H - y) within 1 %; a point 0.15 m (5.8 h)
+    above the water reads no value; the gauge reads H within 2.2e-4 m; the force on the
+    floor is the weight rho0 g H L within 0.5 % (the side walls carry none of it: the whole
+    tank's vertical force equals the floor's within 2e-4) and has no horizontal part (to
+    round-off). Measured 2026-12-07, the largest over the samples (`pytest -n 0 -s
+    tests/test_probes.py -k still_tank` with a print, 14 s for this and the 3D test):
+    pressure 0.51 %, gauge 7.1e-5 m, floor force 0.26 % (the mean 0.08 %), tank / floor
+    5.9e-5; the gauge's and tank's bars are 3x those, the pressure's and floor's were already
+    within 3x."""
     H, L, dx = 0.5, 1.0, 0.02
     scene, wall, floor = still_tank(dx)
     sim = taisph.Simulation(scene)
@@ -44,11 +48,11 @@ def test_still_tank_pressure_elevation_and_floor_force():
     assert len(probes.times) == 1 + sim.steps // 10
     assert np.all(np.abs(values["deep"] / (RHO0 * G * (H - 0.1)) - 1) < 0.01)
     assert np.all(np.isnan(values["air"]))
-    assert np.all(np.abs(values["gauge"] - H) < dx / 10)
+    assert np.all(np.abs(values["gauge"] - H) < 2.2e-4)
     weight = RHO0 * G * H * L
     assert np.all(np.abs(-values["floor"][:, 1] / weight - 1) < 0.005)
     assert np.all(np.abs(values["floor"][:, 0]) < 1e-6 * weight)
-    assert np.all(np.abs(values["tank"][:, 1] / values["floor"][:, 1] - 1) < 0.001)
+    assert np.all(np.abs(values["tank"][:, 1] / values["floor"][:, 1] - 1) < 2e-4)
 
 
 @pytest.mark.parametrize("case", ["lj_tank", "dam_break", "dam_break_friction"])
@@ -210,19 +214,21 @@ walls = "tank"
 def test_still_tank_3d_through_a_scene_file(tmp_path):
     """3D, a scene file's probes run by the command line (5 x 6 x 10 particles of
     water, H = 0.24 m): over 0.1 s the pressure 0.16 m deep is within 4 % of rho0 g
-    (H - y) (measured up to 3.5 %: the acoustic transient of a tank 5 particles wide;
-    the 2D test above holds 1 %), the surface within dx/2 of H, the force on the tank
-    the weight within 2 % (measured 1.6 %) and 0.5 % on average (0.08 %), its horizontal parts
-    zero; the CSV has the 3D force columns."""
+    (H - y) (measured up to 2.7 %: the acoustic transient of a tank 5 particles wide;
+    the 2D test above holds 1 %), the surface within 1.1e-3 m of H (3.7e-4 m), the force
+    on the tank the weight within 2 % (1.6 %) and 0.07 % on average (0.023 %), its
+    horizontal parts zero (to round-off). Measured 2026-12-07 (`pytest -n 0 -s
+    tests/test_probes.py -k still_tank` with a print); the gauge's and the mean force's
+    bars are 3x those, the others were already within 3x. The CSV has the 3D force columns."""
     (tmp_path / "tank3d.toml").write_text(TANK_3D)
     assert cli([str(tmp_path / "tank3d.toml"), "--out", str(tmp_path / "out"), "--no-progress"]) == 0
     data = read_csv(tmp_path / "out" / "probes.csv")
     assert list(data) == ["time", "p", "gauge", "F_x", "F_y", "F_z"]
     H, weight = 0.24, RHO0 * G * 0.4 * 0.24 * 0.2
     assert np.all(np.abs(data["p"] / (RHO0 * G * (H - 0.08)) - 1) < 0.04)
-    assert np.all(np.abs(data["gauge"] - H) < 0.02)
+    assert np.all(np.abs(data["gauge"] - H) < 1.1e-3)
     assert np.all(np.abs(-data["F_y"] / weight - 1) < 0.02)
-    assert abs(-data["F_y"].mean() / weight - 1) < 0.005
+    assert abs(-data["F_y"].mean() / weight - 1) < 7e-4
     assert np.all(np.abs(data["F_x"]) + np.abs(data["F_z"]) < 1e-6 * weight)
 
 

@@ -163,13 +163,20 @@ def test_dfsph_replaces_the_riemann_formulation(tmp_path):
 def test_the_python_dam_break_case_with_the_riemann_formulation():
     """dam_break(formulation="riemann") (the case's defaults otherwise: dummy walls with
     friction, alpha 0.1, delta 0.1; Courant 0.25, not the symmetric form's 0.4), dx = 0.04 to
-    T = 3.1: the surge front against Koshizuka & Oka as the symmetric form's (measured mean
-    |dZ| 0.099 against 0.097), the column height against Martin & Moyce no worse (0.060
-    against 0.076); a formulation the case does not know is refused naming it."""
+    T = 3.1, one-sided against the experiments: the surge front's mean |dZ| against Koshizuka
+    & Oka below 0.12 and no more than 0.01 above the symmetric form's; the column height's
+    mean error against Martin & Moyce below 0.075 and no more than 0.005 above the symmetric
+    form's. Measured 2026-12-07 (`pytest -n 0 -s tests/test_riemann.py -k python_dam_break`
+    with a print, 25 s): surge 0.0993 (symmetric 0.0967), height 0.0599 (symmetric 0.0764).
+    The bars are the measured errors plus ~20 % (3x would be no bar on errors this size; the
+    margin covers the processors' round-off in a violent flow). A formulation the case does
+    not know is refused naming it."""
     symmetric = validation.run("dam_break", dx=0.04, formulation="symmetric")
     riemann = validation.run("dam_break", dx=0.04, formulation="riemann")
     assert not riemann.diverged
-    assert abs(riemann.error - symmetric.error) < 0.01, (riemann.error, symmetric.error)
+    assert riemann.error < 0.12, (riemann.error, symmetric.error)
+    assert riemann.error < symmetric.error + 0.01, (riemann.error, symmetric.error)
+    assert riemann.metrics["height_mean_abs"] < 0.075, riemann.metrics
     assert riemann.metrics["height_mean_abs"] < symmetric.metrics["height_mean_abs"] + 0.005
     with pytest.raises(ParameterError, match="formulation must be one of"):
         catalogue.find("dam_break")(formulation="godunov")

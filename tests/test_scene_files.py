@@ -339,10 +339,12 @@ def test_still_water_in_a_tank_stays_still(tmp_path, model, length):
     speed = np.linalg.norm(sim.velocities()[sim.fluid], axis=1)
     position = sim.positions()[sim.fluid]
     assert position[:, 1].min() > 0 and 0 < position[:, 0].min() and position[:, 0].max() < length + 0.025
-    if model == "dummy":  # measured: max speed 0.1 % of sqrt(gH), centre of mass still to 1e-5 m
-        assert speed.max() < 0.01 * wave_speed
-        assert abs(position[:, 1].mean() - y0) < 0.01 * scene.dx
-    else:  # Lennard-Jones walls let the water settle: rms speed 2.4 %, centre of mass 0.12 dx lower
+    # measured 2026-12-07 (`pytest -n 0 -s tests/test_scene_files.py -k still_water_in_a_tank`
+    # with a print, 25 s for the four): bars 3x the dummy walls' values; the LJ ones were already within 3x
+    if model == "dummy":  # max speed 0.20 % of sqrt(gH), centre of mass still to 6.8e-4 dx (3.4e-5 m)
+        assert speed.max() < 0.006 * wave_speed
+        assert abs(position[:, 1].mean() - y0) < 0.002 * scene.dx
+    else:  # Lennard-Jones walls let the water settle: rms speed 1.9-2.4 %, centre of mass 0.12-0.14 dx lower
         assert np.sqrt(np.mean(speed**2)) < 0.05 * wave_speed
         assert abs(position[:, 1].mean() - y0) < 0.25 * scene.dx
 

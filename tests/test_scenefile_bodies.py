@@ -1,5 +1,5 @@
 """``[[bodies]]`` in scene files: cases/floating_box_2d.toml builds one floating box of
-125 kg/m at its equilibrium draft, on the water's lattice with no water inside it; a
+125 kg/m set up at its equilibrium draft, on the water's lattice with no water inside it; a
 prescribed body follows a trajectory file or a wave maker; every mistake (a missing
 name, density and mass both, a bad motion, a trajectory file missing, unreadable or
 going back in time, an unknown wave maker, a body overlapping the water, a body probe
@@ -58,11 +58,13 @@ def scene_file(tmp_path, body="", extra="", probe="", base=BASE):
     return path
 
 
-def test_the_floating_box_example_floats_at_its_equilibrium_draft():
+def test_the_floating_box_example_is_set_up_at_its_equilibrium_draft():
     """cases/floating_box_2d.toml: one floating body of 500 x 0.25 = 125 kg/m, a 0.5 m x 0.5 m
-    box centred in the 2 m tank with its bottom at 0.75 m, in water 1 m deep: its draft, 0.25
-    m, is mass / (rho0 width), Archimedes' equilibrium; its particles continue the water's
-    lattice (dx apart from the nearest water particles) and no water lies inside it."""
+    box centred in the 2 m tank with its bottom at 0.75 m, in water 1 m deep: it is set up at
+    a draft of 0.25 m, mass / (rho0 width) (where Archimedes puts it; this checks the scene as
+    built, nothing is run: that it floats there is tests/test_bodies.py's); its particles
+    continue the water's lattice (dx apart from the nearest water particles) and no water lies
+    inside it."""
     scene, settings = load(cases_folder() / "floating_box_2d.toml")
     dx = scene.dx
     assert [(b.name, b.motion) for b in scene.bodies] == [("box", "floating")]

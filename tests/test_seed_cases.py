@@ -24,8 +24,11 @@ def wedge():
 
 def test_wedge_flow_runs_up_the_slope(wedge):
     """At t = 0.45 s the water on the wedge's upstream face (the layer within 2 dx of
-    it) moves up the slope: mean up-slope speed > 1 m/s (measured 3.9) and mean |normal
-    speed| < 0.5 x mean |up-slope speed| (measured 0.31): the flow follows the face."""
+    it) moves up the slope: mean up-slope speed > 1.5 m/s and mean |normal speed| < 0.5 x
+    mean |up-slope speed|: the flow follows the face. Measured 2026-12-07 (`pytest -n 0 -s
+    tests/test_seed_cases.py -k wedge_flow` with a print, 21 s for this and the next test):
+    4.54 m/s (3.9 quoted before) and 0.19 (0.31 before); the speed's lower bound a third of
+    it, the ratio's bar as it was (already within 3x)."""
     sim, snaps = wedge
     s = at(snaps, 0.45)
     fluid = sim.fluid
@@ -35,19 +38,20 @@ def test_wedge_flow_runs_up_the_slope(wedge):
     layer = (x[:, 0] > WEDGE[0][0]) & (x[:, 0] < WEDGE[1][0]) & (d > 0) & (d < 2 * DX_WEDGE)
     assert layer.sum() >= 10
     vt, vn = v[layer] @ t_up, v[layer] @ n_up
-    assert vt.mean() > 1.0
+    assert vt.mean() > 1.5, vt.mean()
     assert np.abs(vn).mean() < 0.5 * np.abs(vt).mean()
 
 
 def test_wedge_flow_goes_over_the_apex(wedge):
-    """Water passes the apex (x > 2.5 m): 1 % of the fluid by t = 0.6 s (measured 4.5 %)
-    and 10 % by 0.9 s (measured 21 %), and by 0.9 s 5 % has crossed the whole wedge
-    (x > 3 m, measured 13 %: a jet leaves the apex and lands near the right wall; the
+    """Water passes the apex (x > 2.5 m): 1.5 % of the fluid by t = 0.6 s (measured 4.4 %
+    2026-12-07, the command above; a third of it) and 10 % by 0.9 s (measured 21 %), and by
+    0.9 s 5 % has crossed the whole wedge (x > 3 m, measured 13.8 %; these two bars were
+    already within 3x: a jet leaves the apex and lands near the right wall; the
     lee side fills after 1.2 s). No particle ever inside the wedge or outside the
     tank; mass exact."""
     sim, snaps = wedge
     fluid = sim.fluid
-    assert (at(snaps, 0.6)["x"][fluid, 0] > 2.5).mean() > 0.01
+    assert (at(snaps, 0.6)["x"][fluid, 0] > 2.5).mean() > 0.015
     x = at(snaps, 0.9)["x"][fluid]
     assert (x[:, 0] > 2.5).mean() > 0.10
     assert (x[:, 0] > 3.0).mean() > 0.05

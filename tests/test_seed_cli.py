@@ -125,10 +125,11 @@ def test_two_materials_from_density(tmp_path, capsys):
 
 
 def test_unstable_run_is_reported(tmp_path, capsys):
-    """Forward Euler at dt = 0.001 s, 2.4x the case's stable step at dx = 0.1, blows
-    up within 0.5 s (densities go negative): exit code 1 and a hint."""
+    """Forward Euler at dt = 0.001 s, more than twice the case's stable step at dx = 0.1
+    (2.4x when written: the premise, asserted one-sided), blows up within 0.5 s (densities
+    go negative): exit code 1 and a hint."""
     dat, argv = export(tmp_path, capsys, "dam_break_wedge", {"dx": 0.1})
-    assert 0.001 / float(argv[4]) == pytest.approx(2.4, abs=0.05)
+    assert 0.001 > 2 * float(argv[4]), argv
     argv[3], argv[4], argv[5] = "0.5", "0.001", "euler"
     assert cli.main(argv + ["--frames", "1", "--out", str(tmp_path / "out"), "--no-progress"]) == 1
     err = capsys.readouterr().err

@@ -521,9 +521,11 @@ def test_two_fluids_density_ratio_holds(ratio):
     """Heavy over light (Rayleigh-Taylor), Hu & Adams momentum + Colagrossi & Landrini
     continuity, the same c0 for both fluids, dx = 0.04, to t = 1 s: no guard trips,
     every particle stays in the box, each material's mass is exactly conserved, each
-    particle's density stays within 15 % of its own material's rho0 (measured at
-    dx = 0.04 to 1.5 s: 2.7 % for ratio 2, 9.7 % for ratio 10, the light fluid
-    compressed by the heavy column above it), and the heavy fluid sinks. Resolution
+    particle's density stays within 8 % (ratio 2) and 15 % (ratio 10) of its own
+    material's rho0 in every frame (measured 2026-12-07, `pytest -n 0 -s
+    tests/test_stability.py -k two_fluids_density_ratio_holds` with a print, 37 s: 2.7 %
+    and 10.2 %, the light fluid compressed by the heavy column above it; the bar 3x for
+    ratio 2, the one it had for ratio 10, already within 3x), and the heavy fluid sinks. Resolution
     matters: at dx = 0.05 ratio 10 trips the density guard at t = 0.57 s (a heavy
     particle carried into the light fluid expands by 21 %)."""
     sim = taisph.Simulation(taisph.cases.two_fluids(dx=0.04, density_ratio=ratio))
@@ -537,7 +539,7 @@ def test_two_fluids_density_ratio_holds(ratio):
     x = sim.positions()[sim.fluid]
     assert x[:, 0].min() > 0 and x[:, 0].max() < 1.0 and x[:, 1].min() > 0
     assert [sim.masses()[sim.materials() == k].sum() for k in (0, 1)] == mass0
-    assert max(errors) < 0.15
+    assert max(errors) < {2.0: 0.08, 10.0: 0.15}[ratio], max(errors)
     assert sim.positions()[heavy, 1].mean() < y0 - 0.01
 
 
