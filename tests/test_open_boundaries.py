@@ -52,16 +52,21 @@ def startup_poiseuille(y, t, u_max, nu=2.5e-7):
 
 def test_a_uniform_stream_through_two_pressure_zones_is_kept_to_round_off():
     """Water at 0.01 m/s and 0.1 Pa between two zones prescribing 0.1 Pa: nothing may
-    change but positions. Measured: velocity spread 1e-14 m/s after 0.2 s (1 500 steps),
-    fluid count constant, mass in = mass out exactly (equal masses)."""
+    change but positions. Measured (2026-12-07) after 0.2 s (1 662 steps): velocity within
+    6.1e-14 m/s of the stream's (bar 2e-13, was 1e-11), pressure within 1.9e-13 Pa of 0.1
+    (bar 6e-13, was 1e-11), fluid count constant; the mass let in is the 40 columns the
+    stream carries across the inlet in 0.2 s (u t / dx = 40), half the fluid's: 0.5 m0 within
+    5e-14 (measured 1.7e-14; was > 0.3 m0); fluid mass = initial + in - out to round-off."""
     sim = taisph.Simulation(stream())
     n0, m0 = sim.n_fluid, sim.total_mass()
     sim.run(0.2, frames=0)
     v, p = sim.velocities()[sim.fluid], sim.pressure()[sim.fluid]
-    assert np.abs(v[:, 0] - 0.01).max() < 1e-11 and np.abs(v[:, 1]).max() < 1e-11
-    assert np.abs(p - 0.1).max() < 1e-11
     mass_in, mass_out = sim.open_boundary_mass()
-    assert mass_in > 0.3 * m0  # 0.002 m of 0.004 m crossed
+    print(f"u {np.abs(v[:, 0] - 0.01).max():.3g}, v {np.abs(v[:, 1]).max():.3g}, p {np.abs(p - 0.1).max():.3g}, "
+          f"in {mass_in / m0 - 0.5:.3g} m0 + 0.5, steps {sim.steps}")
+    assert np.abs(v[:, 0] - 0.01).max() < 2e-13 and np.abs(v[:, 1]).max() < 2e-13
+    assert np.abs(p - 0.1).max() < 6e-13
+    assert mass_in / m0 == pytest.approx(0.5, rel=5e-14)  # 0.002 m of 0.004 m crossed
     assert sim.n_fluid == n0
     assert sim.total_mass() == pytest.approx(m0 + mass_in - mass_out, rel=1e-12)
 
@@ -69,43 +74,53 @@ def test_a_uniform_stream_through_two_pressure_zones_is_kept_to_round_off():
 def test_a_uniform_stream_with_summation_density_is_kept():
     """The same stream with the density summed over the lattice (normalised by the
     kernel's lattice sum, 1.0105 here) and the buffers keeping their imposed density:
-    the pressure stays 0.1 Pa and the stream uniform (measured: velocity spread 8e-14 m/s,
-    pressure within 8e-12 Pa after 0.2 s, 1 662 steps). Without the normalisation the sum
-    reads 1.05 % too dense: a pressure of 0.276 Pa against the zones' 0.1."""
+    the pressure stays 0.1 Pa and the stream uniform (measured 2026-12-07 after 0.2 s, 1 662
+    steps: velocity within 6.3e-14 m/s of the stream's, bar 2e-13 (was 1e-11); pressure within
+    8.6e-12 Pa, bar 3e-11 (was 1e-9)). Without the normalisation the sum reads 1.05 % too
+    dense: a pressure of 0.276 Pa against the zones' 0.1."""
     sim = taisph.Simulation(stream(summation=True))
     n0, m0 = sim.n_fluid, sim.total_mass()
     sim.run(0.2, frames=0)
     v, p = sim.velocities()[sim.fluid], sim.pressure()[sim.fluid]
-    assert np.abs(v[:, 0] - 0.01).max() < 1e-11 and np.abs(v[:, 1]).max() < 1e-11
-    assert np.abs(p - 0.1).max() < 1e-9
+    print(f"u {np.abs(v[:, 0] - 0.01).max():.3g}, v {np.abs(v[:, 1]).max():.3g}, p {np.abs(p - 0.1).max():.3g}, "
+          f"steps {sim.steps}")
+    assert np.abs(v[:, 0] - 0.01).max() < 2e-13 and np.abs(v[:, 1]).max() < 2e-13
+    assert np.abs(p - 0.1).max() < 3e-11
     assert sim.n_fluid == n0
     mass_in, mass_out = sim.open_boundary_mass()
     assert sim.total_mass() == pytest.approx(m0 + mass_in - mass_out, rel=1e-12)
 
 
 def test_water_at_rest_between_equal_pressures_stays_at_rest():
+    """At rest after 0.1 s to round-off: |v| < 1e-15 m/s (measured 2.4e-16; was 1e-12); nothing
+    crossed a face."""
     sim = taisph.Simulation(stream(u=0.0))
     sim.run(0.1, frames=0)
-    assert np.abs(sim.velocities()).max() < 1e-12
+    print(f"|v| {np.abs(sim.velocities()).max():.3g}")
+    assert np.abs(sim.velocities()).max() < 1e-15
     assert sim.open_boundary_mass() == (0.0, 0.0)
 
 
 def test_a_velocity_inlet_feeds_a_stream_at_its_speed():
-    """Inlet prescribing 0.01 m/s, outlet prescribing 0.1 Pa: the stream keeps 0.01 m/s
-    (measured mean 0.00999, spread 1e-5 after 0.5 s; the inlet's pressure is extrapolated)."""
+    """Inlet prescribing 0.01 m/s, outlet prescribing 0.1 Pa (the inlet's pressure is
+    extrapolated): the stream keeps 0.01 m/s to round-off. Measured (2026-12-07) after 0.3 s:
+    mean 2.6e-14 of 0.01 m/s off (bar 1e-13; was 2e-3), spread (std) 1.8e-12 m/s (bar 5e-12;
+    was 1e-4)."""
     sim = taisph.Simulation(stream(inlet={"velocity": 0.01}))
     sim.run(0.3, frames=0)
     u = sim.velocities()[sim.fluid, 0]
-    assert u.mean() == pytest.approx(0.01, rel=2e-3) and u.std() < 1e-4
+    print(f"mean {u.mean() / 0.01 - 1:.3g}, std {u.std():.3g}")
+    assert u.mean() == pytest.approx(0.01, rel=1e-13) and u.std() < 5e-12
 
 
 @pytest.mark.parametrize("inlet", ["pressure", pytest.param("velocity", marks=pytest.mark.slow)])
 def test_the_open_channel_reaches_poiseuilles_parabola(inlet):
     """The case `channel` at H/20 (CI; the bar is H/40, test below): at t = 1.5 s (3.7
     time constants) the profile across the middle third against the start-up solution
-    (pressure inlet) or the steady parabola the inlet prescribes (velocity inlet):
-    measured L2 error 1.7 % of u_max for both; bar 3 %. Fluid count within 1 %; mass
-    balance to round-off."""
+    (pressure inlet) or the steady parabola the inlet prescribes (velocity inlet).
+    Measured (2026-12-07): L2 error 1.73 % of u_max (pressure; bar 3 %, the issue's) and
+    0.44 % (velocity; bar 1.3 %, was 3 %); fluid count -0.25 % for both (bar 0.75 %, was
+    1 %); mass balance to round-off."""
     scene = taisph.cases.channel(dx=DX, inlet=inlet, t_end=1.5)
     sim = taisph.Simulation(scene)
     n0, m0 = sim.n_fluid, sim.total_mass()
@@ -116,32 +131,36 @@ def test_the_open_channel_reaches_poiseuilles_parabola(inlet):
     exact = (startup_poiseuille(x[middle, 1], sim.time, u_max) if inlet == "pressure"
              else u_max * 4 * x[middle, 1] * (H - x[middle, 1]) / H**2)
     error = np.sqrt(np.mean((u[middle] - exact) ** 2)) / u_max
-    assert error < 0.03
-    assert abs(sim.n_fluid - n0) <= 0.01 * n0
+    print(f"error {error:.4f}, count {sim.n_fluid / n0 - 1:.4f}")
+    assert error < (0.03 if inlet == "pressure" else 0.013)
+    assert abs(sim.n_fluid - n0) <= 0.0075 * n0
     mass_in, mass_out = sim.open_boundary_mass()
     assert sim.total_mass() == pytest.approx(m0 + mass_in - mass_out, rel=1e-12)
 
 
 @pytest.mark.slow
 def test_the_open_channel_at_h_over_40_meets_the_bar():
-    """Issue 27's check 1 at H/dx = 40, t = 3 s (7.4 time constants): profile L2 error
-    against the parabola at three sections <= 3 % of u_max (measured 0.3-0.5 %), the
-    flow in and out over the last second within 1 % (measured by the zones' mass
-    counters), fluid count within 1 % (measured -0.19 %). ~4 min."""
+    """Issue 27's check 1 at H/dx = 40, t = 3 s (7.4 time constants). Measured (2026-12-07,
+    215 s): profile L2 error against the start-up solution at three sections 0.54, 0.29,
+    0.52 % of u_max (bar 1.6 %, 3x the largest; the issue's is 3 %); the flow in and out over
+    the last second, by the zones' mass counters, equal within 0.032 % (bar 0.1 %; was 1 %);
+    fluid count -0.19 % (bar 0.6 %; was 1 %)."""
     sim = taisph.Simulation(taisph.cases.channel(dx=2.5e-5, t_end=2.0))
     n0 = sim.n_fluid
     sim.run(frames=0)
     in0, out0 = sim.open_boundary_mass()
     sim.run(3.0, frames=0)
     in1, out1 = sim.open_boundary_mass()
-    assert abs((in1 - in0) - (out1 - out0)) <= 0.01 * (in1 - in0)
     x, u = sim.positions()[sim.fluid], sim.velocities()[sim.fluid, 0]
     u_max = 0.0125
+    errors = []
     for section in (0.5e-3, 2e-3, 3.5e-3):
         near = np.abs(x[:, 0] - section) < 2.5e-5
-        exact = startup_poiseuille(x[near, 1], sim.time, u_max)
-        assert np.sqrt(np.mean((u[near] - exact) ** 2)) / u_max < 0.03
-    assert abs(sim.n_fluid - n0) <= 0.01 * n0
+        errors.append(np.sqrt(np.mean((u[near] - startup_poiseuille(x[near, 1], sim.time, u_max)) ** 2)) / u_max)
+    print(f"errors {errors}, in - out {(in1 - in0) / (out1 - out0) - 1:.4g}, count {sim.n_fluid / n0 - 1:.4g}")
+    assert abs((in1 - in0) - (out1 - out0)) <= 0.001 * (in1 - in0)
+    assert max(errors) < 0.016
+    assert abs(sim.n_fluid - n0) <= 0.006 * n0
 
 
 NU = 2.5e-7  # kinematic viscosity of check 1's fluid (mu = 2.5e-4 Pa s, rho 1000 kg/m^3)
@@ -172,7 +191,7 @@ def reversing_run(periods, relaxation_time=None, viscous=True):
     """Run :func:`reversing`; the period means of the fluid mass (16 samples a period),
     the closest two fluid particles ever seen at the samples, and the zones' mass in and out."""
     scene, T = reversing(periods, relaxation_time, viscous)
-    sim = taisph.Simulation(scene)
+    sim = taisph.Simulation(scene, deterministic=True)  # (the serial sort; below 60 000 particles in any case)
     masses, closest = [], np.inf
     for k in range(1, 16 * periods + 1):
         sim.run(k * T / 16, frames=0)
@@ -185,23 +204,40 @@ def reversing_run(periods, relaxation_time=None, viscous=True):
     return np.mean(np.reshape(masses, (periods, 16)), axis=1), closest, sim.open_boundary_mass()
 
 
-@pytest.mark.parametrize("relaxation_time, viscous", [(None, True), (0.01, True), (0.01, False)])
-@pytest.mark.parametrize("periods", [2, pytest.param(10, marks=pytest.mark.slow)])
+REVERSING_WALK = ("measured 2026-12-07 (AMD EPYC, 246 s): inviscid without DensityRelaxation the period-mean "
+                  "mass walks 1.273 % from the first period's over 10 periods (0.5 % bar) and a pair comes "
+                  "0.441 dx close (0.5 dx bar); over 2 periods already 0.812 % (0.624 dx)")
+
+
+@pytest.mark.parametrize("periods, relaxation_time, viscous", [
+    (2, None, True), (2, 0.01, True), (2, 0.01, False),
+    *[pytest.param(10, tau, viscous, marks=pytest.mark.slow) for tau, viscous in [(None, True), (0.01, True),
+                                                                                   (0.01, False)]],
+    pytest.param(10, None, False, marks=[pytest.mark.slow, pytest.mark.xfail(strict=True, reason=REVERSING_WALK)]),
+])
 def test_a_reversing_flow_keeps_its_mass_and_its_spacing(periods, relaxation_time, viscous):
     """Issue 27's check 4: the period means of the fluid mass within 0.5 % of the first
     period's over 10 periods, and no two fluid particles closer than 0.5 dx at any
     sample. The fluid mass at one instant is coarse (particles cross a face a whole column
     at a time, 20 here, 1.25 % of the fluid); its mean over a period (16 samples) is not.
-    Measured (2026-12-06, AMD EPYC), over 10 periods at H/dx = 20 (this test): 0.21 % and
-    0.947 dx; with DensityRelaxation (tau = 0.01 s, 77 h / c0; the evolved density pulled
-    towards the summed one gives the particle count a restoring force,
-    taisph/terms/density_relaxation.py) 0.125 % and 0.946 dx. At H/dx = 40 (dx halved)
-    only with the term: 0.262 % and 0.502 dx (2 780 s on one thread); without it 0.48 % by
-    the fourth period and a pair 0.473 dx apart in the third. Inviscid, the outlet taking
-    water in as a uniform stream (2026-12-07; before, its lines ran apart into jets): with
-    the term 0.207 % and 0.503 dx at H/dx = 20; without it 1.27 % and 0.44 dx (before:
-    2.07 %, 0.231 dx), so not tested (docs/open_boundaries.md)."""
+    Both zones must have let water in and out (> 0.3 of the fluid's mass each way: a
+    precondition, not a measurement; measured 1.59-1.62 over 2 periods). Measured at H/dx
+    = 20 (this test; 2 periods 2026-12-07, 10 periods 2026-12-06/07, AMD EPYC), 2 / 10
+    periods: 0.207 % / 0.21 % and 0.947 dx; with DensityRelaxation (tau = 0.01 s, 77 h /
+    c0; the evolved density pulled towards the summed one gives the particle count a
+    restoring force, taisph/terms/density_relaxation.py) 0.125 % / 0.125 % and 0.946 dx.
+    At H/dx = 40 (dx halved) only with the term: 0.262 % and 0.502 dx (2 780 s on one
+    thread); without it 0.48 % by the fourth period and a pair 0.473 dx apart in the third.
+    Inviscid, the outlet taking water in as a uniform stream: with the term 0.164 % / 0.207
+    % and 0.551 / 0.503 dx; without it the known miss, a strict xfail (REVERSING_WALK:
+    1.273 % and 0.441 dx over 10 periods; docs/open_boundaries.md). The runs are
+    deterministic (serial cell sort): on one machine they repeat bit for bit, at 1 or 2
+    threads alike (checked 2026-12-07); another processor's round-off may walk the mass
+    elsewhere (0.60 % on a Xeon, 2.07 % on an EPYC, 2026-12-06, older code), which is why
+    no bar here was ever widened to hold a walk: the walk is the xfail."""
     means, closest, (mass_in, mass_out) = reversing_run(periods, relaxation_time, viscous)
+    print(f"mass {np.abs(means / means[0] - 1.0).max():.4%}, closest {closest / DX:.4f} dx, "
+          f"in {mass_in / means[0]:.4f}, out {mass_out / means[0]:.4f}")
     assert np.abs(means / means[0] - 1.0).max() <= 0.005
     assert closest >= 0.5 * DX
     assert mass_in > 0.3 * means[0] and mass_out > 0.3 * means[0]
@@ -213,8 +249,9 @@ def test_water_entering_a_zone_that_extrapolates_the_velocity_without_viscosity_
     let in, ran apart into jets (3.6 times the stream's speed at H/dx = 40). Such a zone now
     lets water in at its mean speed, and a viscous scene keeps each line's own. At the peak
     of the reversing stream's first inflow (t/T = 0.75, the inlet drawing 0.01 m/s out) the
-    whole column moves as one: measured (2026-12-07) the outlet's lines at 0.00974 m/s,
-    spread 0 (before: 0.0087 m/s at H/dx = 40)."""
+    whole column moves as one: the outlet's lines at 0.01 m/s within 5 % (measured
+    2026-12-07: 0.009776 m/s, 2.2 % low), all at one speed, exactly (measured: spread 0,
+    before 0.0087 m/s at H/dx = 40), and straight in (no tangential speed, exactly)."""
     from taisph.engine import assembly, kernels
 
     scene, T = reversing(1, viscous=False)
@@ -225,8 +262,9 @@ def test_water_entering_a_zone_that_extrapolates_the_velocity_without_viscosity_
     assert ("open_boundaries", "uniform inflow") in kernels.TRACED
     x, v = sim.positions(), sim.velocities()
     lines = sim.buffer & (x[:, 0] > L)
+    print(f"mean {-v[lines, 0].mean():.5g}, std {v[lines, 0].std():.3g}, v {np.abs(v[lines, 1]).max():.3g}")
     assert -v[lines, 0].mean() == pytest.approx(0.01, rel=0.05)
-    assert v[lines, 0].std() < 1e-9 and np.abs(v[lines, 1]).max() < 1e-12
+    assert np.ptp(v[lines, 0]) == 0.0 and np.abs(v[lines, 1]).max() == 0.0
     assembly._cache.clear()
     kernels.TRACED.clear()
     taisph.Simulation(reversing(1)[0]).step(1)  # viscous: each line its own speed
@@ -330,13 +368,15 @@ def stream_3d(inlet):
 
 
 def test_a_3d_stream_through_rectangular_zones_is_kept_to_round_off():
-    """Measured: velocity spread 1e-16 m/s after 0.1 s (416 steps), mass in = out; 0.03 s
-    here (a column crossed each face)."""
+    """To round-off over 0.03 s (125 steps; a column crossed each face): velocity within
+    1e-15 m/s of the stream's (measured 2026-12-07: 3.2e-16; was 1e-12), fluid count
+    constant, mass in = out."""
     sim = taisph.Simulation(stream_3d({"velocity": 0.01}))
     n0 = sim.n_fluid
     sim.run(0.03, frames=0)
     v = sim.velocities()[sim.fluid]
-    assert np.abs(v[:, 0] - 0.01).max() < 1e-12 and np.abs(v[:, 1:]).max() < 1e-12
+    print(f"u {np.abs(v[:, 0] - 0.01).max():.3g}, v {np.abs(v[:, 1:]).max():.3g}, steps {sim.steps}")
+    assert np.abs(v[:, 0] - 0.01).max() < 1e-15 and np.abs(v[:, 1:]).max() < 1e-15
     assert sim.n_fluid == n0 and sim.open_boundary_mass()[0] == sim.open_boundary_mass()[1] > 0
 
 
@@ -345,7 +385,8 @@ def test_a_parabolic_inlet_gives_each_buffer_particle_its_profile_speed(dim):
     """The prescribed table, interpolated at the buffer particles after a step: 4 s (1 - s)
     across the face in 2D, its product over both axes in 3D (sampled at 65 and 17 points
     per axis: linear interpolation of 4 s (1 - s) errs by at most ds^2 = (1/64)^2 and
-    (1/16)^2 of U per axis; measured in 3D: 6.8e-3 U)."""
+    (1/16)^2 of U per axis; measured 2026-12-07: 2.3e-4 U in 2D against the bound 2.4e-4 U,
+    6.8e-3 U in 3D against 7.8e-3 U)."""
     scene = stream_3d({"velocity": 0.02, "profile": "parabolic"}) if dim == 3 else stream(
         inlet={"velocity": 0.02, "profile": "parabolic"})
     sim = taisph.Simulation(scene)
@@ -355,5 +396,6 @@ def test_a_parabolic_inlet_gives_each_buffer_particle_its_profile_speed(dim):
     side = 1e-3
     shape = np.prod([4 * (c / side) * (1 - c / side) for c in x[:, 1:].T], axis=0)
     tolerance = 0.02 * (dim - 1) * (1 / 64**2 if dim == 2 else 1 / 16**2)
+    print(f"error {np.abs(u[:, 0] - 0.02 * shape).max() / 0.02:.3g} U, tolerance {tolerance / 0.02:.3g} U")
     assert np.abs(u[:, 0] - 0.02 * shape).max() <= tolerance
     assert np.abs(u[:, 1:]).max() == 0.0

@@ -23,21 +23,21 @@ def crest(t, eta):
 
 
 def solitary_run(dx, **params):
-    """Crest heights at the gauges over H, the celerity between them over sqrt(g (h + H)),
-    and the piston's travel over Goring's stroke."""
+    """Crest heights at the gauges over H and the celerity between them over sqrt(g (h + H)).
+    (Not the piston's travel: its motion is prescribed, so its travel equals Goring's stroke
+    by construction; the stroke is checked against sqrt(16 H h / 3) in
+    tests/test_wave_makers.py, and what it is for, the wave, here.)"""
     scene = solitary_wave(dx=dx, depth=DEPTH, height=HEIGHT, **params)
     gauges = Probes([p for p in scene.probes if p.kind == "elevation"])
     sim = taisph.Simulation(scene)
-    rest = sim.bodies()["piston"].position[0]
     sim.run(scene.t_end, frames=1, writers=[gauges])
     t = np.asarray(gauges.times)
     crests = [crest(t, np.asarray(gauges.values[f"g{k + 1}"])) for k in range(len(GAUGES))]
     ex = expected(DEPTH, HEIGHT)
     heights = [(top - DEPTH) / HEIGHT for _, top in crests]
     celerity = (GAUGES[1] - GAUGES[0]) / (crests[1][0] - crests[0][0]) / ex["celerity"]
-    travel = (sim.bodies()["piston"].position[0] - rest) / ex["stroke"]
     sim.close()
-    return heights, celerity, travel
+    return heights, celerity
 
 
 def test_expected_numbers():
@@ -49,21 +49,23 @@ def test_expected_numbers():
 
 
 def test_a_solitary_wave_runs_down_the_flume_quick():
-    """Coarse (dx = 0.02 m = h/7, to 3.2 s): the piston travels its stroke, the
-    celerity is within 3 % of sqrt(g (h + H)), but the crest, resolved by 2.5 particles, is
-    low: within 25 % of H at both gauges (a looser bar than the slow test's 5 %; measured
-    0.87 H and 0.80 H, celerity 1.002 c)."""
-    heights, celerity, travel = solitary_run(0.02, t_end=3.2)
-    assert travel == pytest.approx(1.0, abs=1e-3)
+    """Coarse (dx = 0.02 m = h/7, to 3.2 s). The crest, resolved by 2.5 particles, is low:
+    measured 0.875 H and 0.799 H (2026-12-07); bar |height / H - 1| < 0.25 at both gauges
+    (3x the measured 20 % would be 60 %: kept at 25 %; the issue's 5 % is the slow test's).
+    The celerity between the gauges: measured 1.0019 sqrt(g (h + H)); bar |c / sqrt(g (h +
+    H)) - 1| < 0.006, 3x the measured 0.19 % (was 0.03)."""
+    heights, celerity = solitary_run(0.02, t_end=3.2)
+    print(f"crests {heights}, celerity {celerity}")
     assert all(abs(x - 1.0) < 0.25 for x in heights), heights
-    assert abs(celerity - 1.0) < 0.03, celerity
+    assert abs(celerity - 1.0) < 0.006, celerity
 
 
 @pytest.mark.slow
 def test_a_solitary_wave_keeps_its_height_and_celerity():
     """Issue 28, check 5, dx = 0.01 m = h/14, alpha = 0.01: crest within 5 % of H at both
-    gauges, celerity within 3 % of sqrt(g (h + H)) (measured 1.004 H and 0.982 H, 1.015 c, 2026-12-04)."""
-    heights, celerity, travel = solitary_run(0.01)
-    assert travel == pytest.approx(1.0, abs=1e-3)
+    gauges, celerity within 3 % of sqrt(g (h + H)) (measured 1.0042 H and 0.9822 H, 1.0155 c,
+    2026-12-07: both bars within 3x the measured errors, 1.8 % and 1.55 %)."""
+    heights, celerity = solitary_run(0.01)
+    print(f"crests {heights}, celerity {celerity}")
     assert all(abs(x - 1.0) < 0.05 for x in heights), heights
     assert abs(celerity - 1.0) < 0.03, celerity

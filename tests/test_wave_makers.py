@@ -52,15 +52,19 @@ def test_wavenumber_of_the_issues_waves():
 
 def test_wavenumber_limits():
     # deep water (h = 1000 m, T = 1 s): k = omega^2 / g to 1e-12; shallow (h = 0.01 m,
-    # T = 100 s, kh ~ 2e-3): k = omega / sqrt(g h) within 1e-5 (the first correction is (kh)^2 / 6)
+    # T = 100 s, kh ~ 2e-3): k = omega / sqrt(g h) within 2e-6, 3x the measured 6.7e-7 (the
+    # first correction, (kh)^2 / 6)
     assert wavenumber(1.0, 1000.0) == pytest.approx((2 * math.pi) ** 2 / G, rel=1e-12)
-    assert wavenumber(100.0, 0.01) == pytest.approx(2 * math.pi / 100.0 / math.sqrt(G * 0.01), rel=1e-5)
+    assert wavenumber(100.0, 0.01) == pytest.approx(2 * math.pi / 100.0 / math.sqrt(G * 0.01), rel=2e-6)
 
 
 # --- transfer functions --------------------------------------------------------------------
 
 def test_piston_transfer_of_the_issues_waves():
-    # H/S = 1.082 (T = 1.5 s) and 1.714 (T = 1.0 s) in depth 0.5 m, to 3 digits (5e-4)
+    # H/S = 1.082 (T = 1.5 s) and 1.714 (T = 1.0 s) in depth 0.5 m, to 3 digits (5e-4; measured
+    # 1.08205 and 1.71423). The shallow-water transfer H/S = kh (1.1115 at T = 1.5 s, 2.7 %
+    # high) fails it, as it fails the two tests below (tried by substituting it, 2026-12-07):
+    # the wave flume's quick test cannot tell it apart (tests/test_waves.py)
     assert piston_transfer(wavenumber(1.5, 0.5) * 0.5) == pytest.approx(1.082, abs=5e-4)
     assert piston_transfer(wavenumber(1.0, 0.5) * 0.5) == pytest.approx(1.714, abs=5e-4)
 
@@ -73,11 +77,13 @@ def test_transfers_equal_the_textbook_formulas(kh):
 
 
 def test_transfer_limits():
-    # shallow water: piston H/S -> kh, flap -> kh/2 (within 1 % at kh = 0.01);
-    # deep water: piston -> 2 (1e-6 at kh = 10), flap -> 2 - 2/kh (1e-12 at kh = 30)
-    assert piston_transfer(0.01) / 0.01 == pytest.approx(1.0, rel=1e-2)
-    assert flap_transfer(0.01) / 0.005 == pytest.approx(1.0, rel=1e-2)
-    assert piston_transfer(10.0) == pytest.approx(2.0, rel=1e-6)
+    # shallow water at kh = 0.01: piston H/S -> kh within 7e-10 (3x the measured 2.2e-10, the
+    # first correction -(kh)^4 / 45), flap -> kh/2 within 2.5e-5 (3x the measured 8.3e-6,
+    # (kh)^2 / 12); deep water: piston -> 2 within 3e-7 at kh = 10 (3x the measured 8.7e-8),
+    # flap -> 2 - 2/kh (1e-12 at kh = 30)
+    assert piston_transfer(0.01) / 0.01 == pytest.approx(1.0, rel=7e-10)
+    assert flap_transfer(0.01) / 0.005 == pytest.approx(1.0, rel=2.5e-5)
+    assert piston_transfer(10.0) == pytest.approx(2.0, rel=3e-7)
     assert flap_transfer(30.0) == pytest.approx(2 - 2 / 30.0, rel=1e-12)
     # and no overflow far out: 2 to 1e-12 at kh = 1000
     assert piston_transfer(1000.0) == pytest.approx(2.0, rel=1e-12)
@@ -93,9 +99,10 @@ def test_piston_derivatives_equal_finite_differences():
     dt = 5e-6  # central-difference error (omega dt)^2/6 ~ 1e-10, and ~ 5e-7 where the jerk steps
     t = np.arange(-0.1, 2 * PERIOD + 0.5, dt)
     assert t[0] < 0 < 2 * PERIOD < t[-1]  # through the start and the end of the ramp
-    # velocity and acceleration within 1e-6 of their largest values
+    # velocity within 5e-10 of its largest value (measured 1.6e-10), acceleration within 1e-6
+    # (measured 4.9e-7, where the jerk steps)
     velocity, acceleration = motion.velocity(t[1:-1]), motion.acceleration(t[1:-1])
-    assert np.max(np.abs(central_difference(motion.position, t) - velocity)) < 1e-6 * np.max(np.abs(velocity))
+    assert np.max(np.abs(central_difference(motion.position, t) - velocity)) < 5e-10 * np.max(np.abs(velocity))
     assert (np.max(np.abs(central_difference(motion.velocity, t) - acceleration))
             < 1e-6 * np.max(np.abs(acceleration)))
 
@@ -129,8 +136,8 @@ def test_flap_angle_and_derivatives():
     assert motion.kind == "rotation" and motion.stroke == pytest.approx(angle, rel=1e-12)
     t = np.arange(2.5, 3.5, 1e-5)
     velocity = motion.velocity(t[1:-1])
-    # velocity within 1e-6 of its largest value (central-difference error ~ 1e-9)
-    assert np.max(np.abs(central_difference(motion.position, t) - velocity)) < 1e-6 * np.max(np.abs(velocity))
+    # velocity within 1e-9 of its largest value (central-difference error: measured 3.4e-10)
+    assert np.max(np.abs(central_difference(motion.position, t) - velocity)) < 1e-9 * np.max(np.abs(velocity))
 
 
 # --- Goring's solitary wave ----------------------------------------------------------------
@@ -147,8 +154,8 @@ def solitary():
 
 def test_solitary_stroke(solitary):
     motion, _ = solitary
-    # S = sqrt(16 H h / 3) = 0.1932 m (1e-3 relative)
-    assert motion.stroke == pytest.approx(0.1932, rel=1e-3)
+    # S = sqrt(16 H h / 3) = 0.1932 m (to 4 digits: 3e-4 relative; measured 9.5e-5)
+    assert motion.stroke == pytest.approx(0.1932, rel=3e-4)
     assert motion.stroke == pytest.approx(math.sqrt(16 * H_SOLITARY * H_DEPTH / 3), rel=1e-12)
 
 
@@ -156,9 +163,10 @@ def test_solitary_trajectory_runs_from_0_to_the_stroke(solitary):
     motion, t = solitary
     x = motion.position(np.concatenate([[-1.0], t, [motion.duration + 1.0]]))
     assert np.all(np.diff(x) >= 0)  # monotone non-decreasing
-    # X(0) within 1e-4 S of 0, X(duration) within 1e-3 S of S; exactly 0 before and S after
-    assert motion.position(0.0) < 1e-4 * motion.stroke
-    assert motion.position(motion.duration) == pytest.approx(motion.stroke, abs=1e-3 * motion.stroke)
+    # X(0) within 3e-5 S of 0, X(duration) within 3e-5 S of S (measured 1e-5 S at both ends,
+    # the trajectory's tail); exactly 0 before and S after
+    assert motion.position(0.0) < 3e-5 * motion.stroke
+    assert motion.position(motion.duration) == pytest.approx(motion.stroke, abs=3e-5 * motion.stroke)
     assert x[0] == 0.0 and x[-1] == motion.stroke
     assert motion.velocity(np.array([-1.0, motion.duration + 1.0])).tolist() == [0.0, 0.0]
 
@@ -166,20 +174,21 @@ def test_solitary_trajectory_runs_from_0_to_the_stroke(solitary):
 def test_solitary_velocity_and_acceleration_equal_finite_differences(solitary):
     motion, t = solitary
     velocity, acceleration = motion.velocity(t[1:-1]), motion.acceleration(t[1:-1])
-    # within 1e-5 of the largest value (central-difference error ~ 1e-8 at dt = 1.2e-4 s)
-    assert np.max(np.abs(central_difference(motion.position, t) - velocity)) < 1e-5 * np.max(velocity)
+    # within 1.5e-7 and 4e-7 of the largest values (central differences at dt = 1.2e-4 s:
+    # measured 5.0e-8 and 1.3e-7)
+    assert np.max(np.abs(central_difference(motion.position, t) - velocity)) < 1.5e-7 * np.max(velocity)
     assert (np.max(np.abs(central_difference(motion.velocity, t) - acceleration))
-            < 1e-5 * np.max(np.abs(acceleration)))
+            < 4e-7 * np.max(np.abs(acceleration)))
 
 
 def test_solitary_top_speed_is_the_fluid_speed_under_the_crest(solitary):
     motion, t = solitary
     c = math.sqrt(G * (H_DEPTH + H_SOLITARY))
     assert c == pytest.approx(1.365, abs=5e-4)  # the issue's celerity, to 4 digits
-    # c H / (h + H) within 1e-6, on the grid and in the middle of the motion
+    # c H / (h + H) to round-off (1e-12; the middle of the motion is on the grid)
     top = c * H_SOLITARY / (H_DEPTH + H_SOLITARY)
-    assert np.max(motion.velocity(t)) == pytest.approx(top, rel=1e-6)
-    assert motion.velocity(motion.duration / 2) == pytest.approx(top, rel=1e-6)
+    assert np.max(motion.velocity(t)) == pytest.approx(top, rel=1e-12)
+    assert motion.velocity(motion.duration / 2) == pytest.approx(top, rel=1e-12)
 
 
 # --- refusals ------------------------------------------------------------------------------
