@@ -34,3 +34,14 @@ def at_output_times():
         assert times[-1] == pytest.approx(targets[-1], abs=1e-12)  # the end is landed on exactly
 
     return check
+
+
+@pytest.hookimpl(tryfirst=True)  # before `-m` deselects: `pytest -m validation` runs the tier
+def pytest_collection_modifyitems(config, items):
+    """Mark the validation tier (tests/validation_tier.py: the physical claims CI checks
+    against references, at the cheapest resolution at which they mean something)."""
+    from validation_tier import TIER
+
+    for item in items:
+        if item.nodeid.split("[")[0] in TIER and item.get_closest_marker("slow") is None:
+            item.add_marker(pytest.mark.validation)  # a slow parametrisation stays in the slow suite

@@ -31,16 +31,24 @@ def test_the_experiment_against_itself():
 
 
 def test_surge_reaches_the_box_coarse():
-    """dx = 0.04 m (10 500 fluid particles), DFSPH, to t = 0.6 s (10 s of stepping on 2
-    cores): the reservoir drains as measured (H4 within 0.06 H on average: measured 0.041 H,
-    most of it the gauge reading the still surface 0.018 m = 0.033 H high at t = 0 at this
-    dx); the surge reaches H2 and the box's P1 within 50 ms of the experiment (measured +39
-    and +42 ms: the coarse column's front is late; +28 and +31 ms at dx = 0.02 m)."""
-    out = kleefsman.run(dx=0.04, t_end=0.6, overrides={"solver": "dfsph"})
+    """dx = 0.04 m (10 500 fluid particles), DFSPH, to t = 1.2 s, through the impact on the
+    box and the first 0.75 s of load on it (54 s on 2 cores at load ~6, 2026-12-07,
+    ``kleefsman.run(dx=0.04, t_end=1.2, overrides={"solver": "dfsph"})``): the reservoir
+    drains as measured (H4 within 0.06 H on average: measured 0.038 H, most of it the gauge
+    reading the still surface 0.018 m = 0.033 H high at t = 0 at this dx); the surge
+    reaches H2 and the box's P1 and P3 within 50 ms of the experiment (measured +39, +42
+    and +26 ms: the coarse column's front is late; +28 and +31 ms at dx = 0.02 m); P3's
+    pressure after its impact within 0.2 rho g H of the experiment on average (measured
+    0.126; the slow test's bar at dx 0.02, where 0.108 was measured). P1's mean error at
+    this dx (0.375) is not held: its first peak and the flow turning on the box's face
+    need the finer run (docs/validation.md, SPHERIC test 2)."""
+    out = kleefsman.run(dx=0.04, t_end=1.2, overrides={"solver": "dfsph"})
     assert out["stopped"] == ""
     assert out["H4"]["mae"] < 0.06, out["H4"]
     assert abs(out["H2"]["arrival_error"]) < 0.05, out["H2"]
     assert abs(out["P1"]["impact_error"]) < 0.05, out["P1"]
+    assert abs(out["P3"]["impact_error"]) < 0.05, out["P3"]
+    assert out["P3"]["mae"] < 0.2, out["P3"]
 
 
 @pytest.mark.slow
