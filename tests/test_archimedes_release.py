@@ -80,6 +80,19 @@ def released_box(dx, release, t_end, density=DENSITY):
     return scene
 
 
+def window_samples(scene, t_end, window, every):
+    """Run `scene` to `t_end`: the box's state and the fluid's positions every `every`
+    seconds over the last `window` (the samples both settling tests average), and the
+    number of fluid particles left at the end."""
+    sim = taisph.Simulation(scene)
+    sim.run(t_end - window, frames=0)
+    samples = []
+    for k in range(1, round(window / every) + 1):
+        sim.run(t_end - window + every * k, frames=0)
+        samples.append((sim.bodies()["box"], sim.positions()[sim.fluid]))
+    return samples, int(np.sum(sim.fluid))
+
+
 def settle(dx, release, t_end, window, density=DENSITY) -> dict:
     """Run the release to `t_end`, sampling every 0.05 s over the last `window` seconds:
     the relative errors of the draft (gauge level less bottom) and of the centre height
@@ -91,20 +104,16 @@ def settle(dx, release, t_end, window, density=DENSITY) -> dict:
     fluid = int(np.sum(scene.kind == 0))
     level = (fluid * dx * dx + WIDTH * DRAFT) / TANK  # at rest upright at Archimedes' draft
     centre = level - DRAFT + HEIGHT / 2
-    sim = taisph.Simulation(scene)
-    sim.run(t_end - window, frames=0)
     heights, levels, angles = [], [], []
-    for k in range(1, round(window / 0.05) + 1):
-        sim.run(t_end - window + 0.05 * k, frames=0)
-        state = sim.bodies()["box"]
-        x = sim.positions()[sim.fluid]
+    samples, left = window_samples(scene, t_end, window, 0.05)
+    for state, x in samples:
         heights.append(state.position[1])
         levels.append(x[np.abs(x[:, 0] - GAUGE) < dx, 1].max() + dx / 2)
         angles.append(math.degrees(state.orientation + roll))  # the body's angle is from its release
     y, surface = np.mean(heights), np.mean(levels)
     return {"draft": (surface - (y - HEIGHT / 2)) / DRAFT - 1, "centre": (y - centre) / DRAFT,
             "level": (surface - level) / dx, "roll": abs(np.mean(angles)), "largest roll": np.max(np.abs(angles)),
-            "bobbing": np.std(heights) / dx, "lost": fluid - int(np.sum(sim.fluid))}
+            "bobbing": np.std(heights) / dx, "lost": fluid - left}
 
 
 def check(found, bar):
@@ -173,19 +182,15 @@ def settle_cube(dx, t_end, window, density=DENSITY) -> dict:
     fluid = int(np.sum(scene.kind == 0))
     level = (fluid * dx**3 + CUBE**2 * CUBE_DRAFT) / CUBE_TANK**2
     centre = level - CUBE_DRAFT + CUBE / 2
-    sim = taisph.Simulation(scene)
-    sim.run(t_end - window, frames=0)
     drafts, heights, tilts = [], [], []
-    for k in range(1, round(window / 0.1) + 1):
-        sim.run(t_end - window + 0.1 * k, frames=0)
-        state = sim.bodies()["box"]
-        x = sim.positions()[sim.fluid]
+    samples, left = window_samples(scene, t_end, window, 0.1)
+    for state, x in samples:
         column = x[(np.abs(x[:, 0] - 0.15) < dx) & (np.abs(x[:, 2] - 0.5) < dx)]
         drafts.append(column[:, 1].max() + dx / 2 - (state.position[1] - CUBE / 2))
         heights.append(state.position[1])
         tilts.append(math.degrees(2 * math.acos(min(1.0, abs(state.orientation[0])))))
     found = {"draft": np.mean(drafts) / CUBE_DRAFT - 1, "centre": (np.mean(heights) - centre) / CUBE_DRAFT,
-             "tilt": max(tilts), "lost": fluid - int(np.sum(sim.fluid))}
+             "tilt": max(tilts), "lost": fluid - left}
     print({key: round(float(value), 4) for key, value in found.items()})
     return found
 
