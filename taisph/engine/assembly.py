@@ -107,6 +107,9 @@ def get(scene) -> "Solver":
 
 
 KERNEL_PARAMS = (("smoothing_length", 1), ("inv_h", 1), ("w_norm", 1), ("grad_norm", 1), ("support2", 1))
+# the scene's number of materials: the material table has at least that many rows (field sets are
+# reused by scenes with fewer), so a loop over the materials stops there (Term.material_count)
+SCENE_PARAMS = (("materials", 1),)
 
 
 class Solver:
@@ -158,7 +161,7 @@ class Solver:
         Returns the material table's columns (a namedtuple of their indices)."""
         rows = {}
         size = 0
-        for name, width in (KERNEL_PARAMS + neighbours.PARAMS + timestep.PARAMS + guards.PARAMS
+        for name, width in (KERNEL_PARAMS + SCENE_PARAMS + neighbours.PARAMS + timestep.PARAMS + guards.PARAMS
                             + tuple(self.method.params)):
             rows[name] = size
             size += self.dim if width == "dim" else width
@@ -170,8 +173,11 @@ class Solver:
                 size += self.dim if default == "vector" else 1
         self.param_rows = rows
         self.n_params = size
-        self.material_columns = eos.columns
-        return collections.namedtuple("MaterialColumns", eos.columns)(*range(len(eos.columns)))
+        # the equation of state's columns, then the material constants terms read (material_columns)
+        extra = [c for t in terms for c in t.material_columns if c not in eos.columns]
+        self.term_material_columns = tuple(dict.fromkeys(extra))
+        self.material_columns = tuple(eos.columns) + self.term_material_columns
+        return collections.namedtuple("MaterialColumns", self.material_columns)(*range(len(self.material_columns)))
 
     def _bind(self, scene, terms, eos, integ, mcols):
         """Bind the equation of state, the terms, the integrator, the grid, the time step and
@@ -195,7 +201,7 @@ class Solver:
                                     layout.q.kind if walls_short else None)
         viscosity_rows = [rows[t.viscosity_param] for t in terms if t.viscosity_param]
         viscosity_rows += [rows[name] for name in self.method.viscosity_params]
-        self.timestep = timestep.TimeStep(rows, self.eos, viscosity_rows)
+        self.timestep = timestep.TimeStep(rows, self.eos, viscosity_rows, [t for t in self.terms if t.has_step_limit])
         self.guards = guards.Guards(dim, layout, rows, self.eos, scene.periodic,
                                     compression_only=self.method.compression_only
                                     or not getattr(scene.eos, "tension", True))
@@ -265,7 +271,8 @@ class Solver:
         dim = self.dim
         h = scene.smoothing_length
         values = dict(smoothing_length=h, inv_h=1.0 / h, w_norm=self.sigma / h**dim,
-                      grad_norm=self.sigma / h ** (dim + 2), support2=(self.kernel.support * h) ** 2)
+                      grad_norm=self.sigma / h ** (dim + 2), support2=(self.kernel.support * h) ** 2,
+                      materials=float(len(scene.materials)))
         values.update(neighbours.parameter_values(scene, grid_lo, grid_cell))
         values.update(timestep.parameter_values(controls, dt))
         values.update(guards.parameter_values(scene, controls, self.method.max_speed(scene)))
@@ -279,7 +286,8 @@ class Solver:
         return table
 
     def material_table(self, scene) -> np.ndarray:
-        return np.array([self.eos.material_row(m) for m in scene.materials], dtype=float)
+        return np.array([list(self.eos.material_row(m)) + [float(getattr(m, c)) for c in self.term_material_columns]
+                         for m in scene.materials], dtype=float)
 
     def make_kernel(self, body):
         """A builder of the kernel running ``body(s, t_target)`` (a ``ti.func`` whose

@@ -8,6 +8,10 @@ Stability limits (Monaghan 1992 sec. 10; Monaghan 2005 sec. 4.7; Morris, Fox & Z
     dt_visc  = C_visc  h^2 / nu                    physical viscosity: terms that declare
                                                    a ``viscosity_param`` (laminar viscosity)
 
+Terms add limits of their own (``Term.step_limit``: the capillary limit of surface
+tension, the viscous limit of a viscosity per phase), each written once and taken in
+:meth:`TimeStep.begin_step`, :func:`initial_dt` and :func:`estimate` alike.
+
 ``dt_stable = min(dt_cfl, dt_force, dt_visc)`` is :func:`stable_dt`, the only place
 the formula is written: the step kernels call it (as a Taichi function) with the last
 rate evaluation's maxima over fluid particles, :func:`initial_dt` with the initial
@@ -145,7 +149,12 @@ def initial_dt(scene, controls: Controls | None = None, courant: float | None = 
              if "gravity" in t.params] + [0.0])
     dt = stable_dt(h, c_max + v_max, g, kinematic_viscosity(scene.terms),
                    c.courant if courant is None else courant, c.force_factor, c.viscous_factor)
-    return float(min(dt, c.dt_max))
+    return float(min(dt, c.dt_max, term_limit(scene, c)))
+
+
+def term_limit(scene, controls: Controls) -> float:
+    """The smallest bound the scene's terms put on dt (``Term.step_limit``; inf: none)."""
+    return min([t.host_step_limit(scene, controls) for t in scene.terms if t.has_step_limit] + [math.inf])
 
 
 # A fixed step held for a whole run keeps this margin below the initial stable step:
@@ -187,8 +196,9 @@ class TimeStep:
 
     `viscosity_rows` are the parameter rows of the terms' kinematic viscosities."""
 
-    def __init__(self, param_rows, eos, viscosity_rows=()):
+    def __init__(self, param_rows, eos, viscosity_rows=(), limiters=()):
         self.p_h = param_rows["smoothing_length"]
+        self.limiters = tuple(limiters)  # bound terms with a step_limit
         self.p = collections.namedtuple("TimeStepRows", [n for n, _ in PARAMS])(*[param_rows[n] for n, _ in PARAMS])
         self.viscosity_rows = tuple(viscosity_rows)
         self.eos = eos
@@ -207,6 +217,8 @@ class TimeStep:
             ti.cast(s.params[self.p_h], ti.f64), status[st.MAX_SIGNAL], ti.sqrt(status[st.MAX_ACC2]), nu,
             ti.cast(s.params[p.courant], ti.f64), ti.cast(s.params[p.force_factor], ti.f64),
             ti.cast(s.params[p.viscous_factor], ti.f64))
+        for k in ti.static(range(len(self.limiters))):
+            dt_stable = ti.min(dt_stable, self.limiters[k].step_limit(s))
         dt = ti.cast(s.params[p.dt_fixed], ti.f64)
         if dt <= 0.0:
             dt = ti.min(dt_stable, ti.cast(s.params[p.dt_max], ti.f64))
@@ -276,8 +288,9 @@ class TimeStep:
             ti.atomic_max(s.status[st.MAX_SIGNAL], signal)
 
 
-def estimate(read_status, h: float, controls: Controls, viscosity: float) -> float:
-    """The dt the next adaptive step will take, from the device's maxima (host side)."""
+def estimate(read_status, h: float, controls: Controls, viscosity: float, limit: float = math.inf) -> float:
+    """The dt the next adaptive step will take, from the device's maxima (host side);
+    `limit` is the terms' own bound (:func:`term_limit`)."""
     dt = stable_dt(h, read_status(st.MAX_SIGNAL), math.sqrt(read_status(st.MAX_ACC2)), viscosity,
                    controls.courant, controls.force_factor, controls.viscous_factor)
-    return float(min(dt, controls.dt_max))
+    return float(min(dt, controls.dt_max, limit))

@@ -1,10 +1,18 @@
 """Tait (Cole) equation of state for weakly compressible liquids (seed eq. 12).
 
-    P = B [ (rho / rho0)^gamma - 1 ],    B = rho0 c0^2 / gamma,
+    P = B [ (rho / rho0)^gamma - 1 ] + p_b,    B = rho0 c0^2 / gamma,
 
 Monaghan (1994) eq. 3.1 / Batchelor (1967). gamma = 7 for water. The sound speed c0
 sets the compressibility: c0 >= 10 U_max keeps density variations near 1 %.
-Each material has its own rho0, c0, gamma (columns of the material table).
+Each material has its own rho0, c0, gamma (columns of the material table), and its
+own background pressure p_b (``Material.background_pressure``, 0 by default: the seed's
+form). A background pressure, the same in every phase, is what lets two phases of very
+different density share a closed box (Colagrossi & Landrini 2003 sec. 3; Adami, Hu &
+Adams 2010 eq. 11): the pressure stays positive everywhere, so the light phase is never
+stretched into the tensile instability, and the momentum equation's non-conservative
+volume form turns the uniform p_b into a force that keeps particles evenly spaced
+(docs/multiphase.md). It adds nothing where p_b = 0 (x + 0.0 is x: the seed's runs
+are unchanged to the bit).
 
 ``Tait(tension=False)``: a liquid that cannot be stretched. A particle whose density
 falls below rho0 is separating from its neighbours (a breaking jet, spray, a
@@ -31,7 +39,7 @@ class Tait:
     particle when it gathers the state in cell order, before the rates are summed."""
 
     name = "tait"
-    columns = ("rho0", "c0", "gamma", "B")  # per-material constants (material table)
+    columns = ("rho0", "c0", "gamma", "B", "p_b")  # per-material constants (material table)
     scalars = ("sound_speed",)  # per-particle quantities it stores
     derived = ("sound_speed",)  # ... recomputed from the state every step (not carried)
     outputs = ()  # stored quantities worth writing to the frames
@@ -45,7 +53,7 @@ class Tait:
 
     def material_row(self, material) -> list:
         b = material.rho0 * material.c0**2 / material.gamma
-        return [material.rho0, material.c0, material.gamma, b]
+        return [material.rho0, material.c0, material.gamma, b, getattr(material, "background_pressure", 0.0)]
 
     def bind(self, layout, material_cols):
         """A copy with compile-time rows attached (the scene's own stays picklable)."""
@@ -79,14 +87,14 @@ class Tait:
             power = r2 * r2 * r2 * ratio
         else:
             power = ti.pow(ratio, gamma)
-        return s.mat[material, self.m.B] * (power - 1.0)
+        return s.mat[material, self.m.B] * (power - 1.0) + s.mat[material, self.m.p_b]
 
     @ti.func
     def density_at(self, s: ti.template(), material, p):
-        """Inverse Tait on the device: the density at pressure p, rho0 (1 + p / B)^(1/gamma).
-        The base is floored at 0.05 (a pressure below -0.95 B, as an extrapolation far into
-        tension can give, would have no real root)."""
-        base = ti.max(1.0 + p / s.mat[material, self.m.B], 0.05)
+        """Inverse Tait on the device: the density at pressure p, rho0 (1 + (p - p_b) / B)^(1/gamma).
+        The base is floored at 0.05 (a pressure below p_b - 0.95 B, as an extrapolation far
+        into tension can give, would have no real root)."""
+        base = ti.max(1.0 + (p - s.mat[material, self.m.p_b]) / s.mat[material, self.m.B], 0.05)
         return s.mat[material, self.m.rho0] * ti.pow(base, 1.0 / s.mat[material, self.m.gamma])
 
     @ti.func
@@ -94,12 +102,12 @@ class Tait:
         return s.Ss[self.q.sound_speed, i]
 
 
-def pressure(rho, rho0, c0, gamma=7.0, tension=True):
+def pressure(rho, rho0, c0, gamma=7.0, tension=True, background_pressure=0.0):
     """Tait pressure (numpy), for initial conditions and tests."""
     p = rho0 * c0**2 / gamma * ((rho / rho0) ** gamma - 1.0)
-    return p if tension else np.maximum(p, 0.0)
+    return (p if tension else np.maximum(p, 0.0)) + background_pressure
 
 
-def density(p, rho0, c0, gamma=7.0):
+def density(p, rho0, c0, gamma=7.0, background_pressure=0.0):
     """Inverse Tait: the density at pressure p (numpy)."""
-    return rho0 * (1.0 + p * gamma / (rho0 * c0**2)) ** (1.0 / gamma)
+    return rho0 * (1.0 + (p - background_pressure) * gamma / (rho0 * c0**2)) ** (1.0 / gamma)

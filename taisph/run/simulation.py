@@ -170,7 +170,8 @@ class Simulation(Readout):
         if self._dt_last > 0:
             return self._dt_last
         return timestep.estimate(self.state.read, self.scene.smoothing_length, self.controls,
-                                 timestep.kinematic_viscosity(self.scene.terms))
+                                 timestep.kinematic_viscosity(self.scene.terms),
+                                 timestep.term_limit(self.scene, self.controls))
 
     def _advance(self, t_target: float, max_steps: int | None = None, progress=None, steps0: int = 0) -> None:
         """Step until the clock reaches `t_target` (or `max_steps` steps are done),

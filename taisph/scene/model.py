@@ -30,14 +30,20 @@ from .solvers import check_dfsph
 
 @dataclass
 class Material:
-    """A fluid's equation-of-state constants (Tait): reference density rho0 (kg/m^3),
-    sound speed c0 (m/s) and exponent gamma."""
+    """A fluid's constants: the equation of state's (Tait): reference density rho0
+    (kg/m^3), sound speed c0 (m/s), exponent gamma and background pressure (Pa, the
+    pressure at rho0: 0 for a free surface; a positive one for two phases filling a closed
+    box, docs/multiphase.md); and its dynamic viscosity (Pa s), which terms that
+    declare it in ``material_columns`` read (:class:`taisph.terms.PhaseViscosity`)."""
 
     name: str = "water"
     rho0: float = 1000.0
     c0: float = 50.0
     gamma: float = 7.0
+    viscosity: float = 0.0
+    background_pressure: float = 0.0
     _positive = ("rho0", "c0", "gamma")  # constants check() requires (not a dataclass field)
+    _not_negative = ("viscosity", "background_pressure")
 
     def set(self, **values):
         """Change constants by name (``rho0``, ``c0``, ``gamma``), checked before any
@@ -45,7 +51,7 @@ class Material:
         for a bad value) leaves the material as it was."""
         for key in values:
             if key not in CONSTANTS:
-                raise KeyError(f"materials have no constant {key!r} (rho0, c0, gamma)")
+                raise KeyError(f"materials have no constant {key!r} ({', '.join(CONSTANTS)})")
         trial = dataclasses.replace(self, **{key: _number(key, value) for key, value in values.items()})
         trial.check()
         for key in values:
@@ -59,9 +65,14 @@ class Material:
             v = getattr(self, key)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise InputError(f"material {self.name!r}: {key} must be a positive number, got {v!r}")
+        for key in self._not_negative:
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise InputError(f"material {self.name!r}: {key} must be a number >= 0, got {v!r}")
 
 
-CONSTANTS = ("rho0", "c0", "gamma")  # a material's constants, by name (Material.set, Scene.set)
+# a material's constants, by name (Material.set, Scene.set)
+CONSTANTS = ("rho0", "c0", "gamma", "viscosity", "background_pressure")
 
 
 def _copy_term(term: Term) -> Term:

@@ -186,6 +186,7 @@ RUNTIME = {
     "lj_cutoff": Number(0, 1e3, low_open=True), "alpha_u": Number(0, 10), "h_factor": smoothing_factor,
     "gravity": gravity_component, "nu": Number(0, 100),
     "smoothing_length": particle_spacing, "rho0": reference_density, "c0": speed_of_sound, "gamma": tait_exponent,
+    "sigma": Number(0, 1e3), "viscosity": Number(0, 1e6), "background_pressure": Number(0, 1e9),
 }
 
 

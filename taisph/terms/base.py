@@ -33,6 +33,12 @@ A term class declares (all optional):
 ``viscosity_param``
     the name of the parameter holding a physical kinematic viscosity nu (m^2/s),
     which limits the time step to C h^2 / nu (:mod:`taisph.engine.timestep`);
+``material_columns``
+    names of :class:`taisph.scene.Material` attributes the term reads per material
+    (e.g. ``("viscosity",)``): the engine appends them to the material table after the
+    equation of state's columns, and the term finds them as ``self.m.<name>``
+    (``s.mat[material, self.m.viscosity]``); like every material constant they are
+    runtime values (``Scene.set``, ``Material.set``);
 ``derived``
     which of its stored quantities it recomputes every step from the state (in
     ``derive`` or a pass): they are not carried from one step to the next;
@@ -89,6 +95,12 @@ and the hooks it needs, ``ti.func`` methods the engine calls if the class define
     ``rates.acc`` (dv/dt) and ``rates.d[self.r.<rate>]`` (e.g. ``self.r.d_density``);
 ``particle(s, i, rates)``
     a contribution that needs no neighbour (gravity);
+``step_limit(s)``
+    (once per step, serial) a bound on this step's dt, in f64, from the runtime
+    parameters and the material table (a capillary or a per-phase viscous limit); the
+    engine takes the smallest of these and its own limits. A term that has one also
+    defines ``host_step_limit(scene, controls)`` (plain Python), the same bound for the
+    initial step and the host's estimates, written with the same formula;
 ``finish(s, i, rates)``
     called after every pair of particle i is summed, before the integrator reads the
     rates: a term that corrects its own sum by the whole neighbourhood (particle shifting
@@ -136,7 +148,7 @@ import taichi as ti
 from ..engine.layout import FLUID, VARIABLE_H
 from ..messages import InputError
 
-HOOKS = ("pair", "particle", "derive", "finish")
+HOOKS = ("pair", "particle", "derive", "finish", "step_limit")
 LAUNCHES = ("after_sort", "after_force")  # hooks returning a launch of the term's own
 
 
@@ -159,6 +171,7 @@ class Term:
     takes_walls = False
     wall_range = "support"
     viscosity_param = None
+    material_columns: tuple = ()
     has_shift = False
     outputs: tuple = ()
     accumulators: dict = {}
@@ -175,6 +188,7 @@ class Term:
     particle = None
     derive = None
     finish = None
+    step_limit = None
     after_sort = None  # (plain Python methods returning a ti.func body)
     after_force = None
 
@@ -200,6 +214,14 @@ class Term:
     @property
     def has_finish(self) -> bool:
         return type(self).finish is not None
+
+    @property
+    def has_step_limit(self) -> bool:
+        return type(self).step_limit is not None
+
+    def host_step_limit(self, scene, controls) -> float:
+        """The bound :meth:`step_limit` puts on dt, on the host (inf: none)."""
+        return math.inf
 
     def launches(self, stage: str) -> bool:
         """Does the term have a launch of its own at `stage` (one of LAUNCHES)?"""
@@ -232,6 +254,7 @@ class Term:
         t.p_inv_h = param_rows.get("inv_h")
         t.p_w_norm = param_rows.get("w_norm")
         t.p_h = param_rows.get("smoothing_length")
+        t.p_materials = param_rows.get("materials")
         t.h_row = getattr(layout.q, VARIABLE_H, -1)  # per-particle h, if a term varies it
         t.h_varies = t.h_row >= 0
         t.q = layout.q
@@ -296,6 +319,11 @@ class Term:
         else:
             result = self.kernel.w_h(r, s.Ss[self.h_row, i])
         return result
+
+    @ti.func
+    def material_count(self, s: ti.template()):
+        """The scene's number of materials (the material table may have more rows: loop to this)."""
+        return ti.cast(s.params[self.p_materials], ti.i32)
 
     def wall_reach(self):
         """How far the term looks at wall neighbours: ``"support"``, None (not at all)
