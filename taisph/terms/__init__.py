@@ -19,6 +19,8 @@ from .pressure_gradient import PressureGradient
 from .smoothing_length import AdaptiveSmoothingLength
 from .summation_density import SummationDensity
 from .pressure_hu_adams import PressureHuAdams
+from .phase_viscosity import PhaseViscosity
+from .surface_tension import SurfaceTension
 from .riemann import Riemann
 from .xsph import XSPH
 from .open_boundary import OpenBoundaries  # made by Scene.add_open_boundary, not listed by hand
@@ -37,6 +39,8 @@ __all__ = [
     "XSPH",
     "ContinuityColagrossi",
     "PressureHuAdams",
+    "PhaseViscosity",
+    "SurfaceTension",
     "InternalEnergy",
     "ArtificialConductivity",
     "AdaptiveSmoothingLength",

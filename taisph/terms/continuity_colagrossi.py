@@ -10,12 +10,13 @@ of their masses. The seed's eq. 7, sum_j m_j (v_i - v_j) . grad W, weighs a ligh
 particle's neighbours across an interface by their (heavier) mass and smears a
 density jump; this form only sees the velocity field, so each fluid keeps its own
 density up to the interface. For a single fluid with equal densities it is exactly
-eq. 7 (checked in the tests). Fluid neighbours only.
+eq. 7 (checked in the tests). Fluid neighbours only, or with ``walls=True`` dummy
+wall particles too (:class:`taisph.terms.AdamiWall`), with their own (prescribed)
+velocity and the volume their mass and density give.
 """
 
 import taichi as ti
 
-from ..engine.layout import FLUID
 from ..messages import InputError
 from .base import Term
 
@@ -24,7 +25,7 @@ from .base import Term
 class ContinuityColagrossi(Term):
     name = "continuity_colagrossi"
     integrates = {"density": "d_density"}
-    wall_range = None  # fluid neighbours only
+    takes_walls = True
     scalars = ("volume",)
     derived = ("volume",)
 
@@ -39,6 +40,6 @@ class ContinuityColagrossi(Term):
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):
         q = ti.static(self.q)
-        if s.Si[q.kind, j] == FLUID:
+        if self.sees(s, j):
             vij = s.Sv[q.velocity, i] - s.Sv[q.velocity, j]
             rates.d[self.r.d_density] += s.Ss[q.density, i] * s.Ss[q.volume, j] * vij.dot(grad)
