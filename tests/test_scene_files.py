@@ -256,9 +256,9 @@ def test_mesh_problems_and_syntax_errors_are_refused(tmp_path):
     two = TANK.replace('name = "water"', 'name = "water"\n\n[[materials]]\nname = "oil"\nrho0 = 800.0')
     two = two.replace('material = "water"', 'material = "water"\n\n[[fluid]]\nbox = [[0.0, 0.5], [1.0, 0.6]]\n'
                       'material = "oil"')
-    with pytest.raises(SceneFileError, match=re.escape("walls[0].model = 'dummy': fluids of different rho0 "
-                                                       "(water, oil) use the sharp-interface terms")):
-        read(scene_file(tmp_path, two))
+    # fluids of different rho0 with dummy walls: the sharp-interface terms with walls (docs/multiphase.md)
+    terms = load(scene_file(tmp_path, two))[0].terms_by_name
+    assert terms["pressure_hu_adams"].with_walls and terms["continuity_colagrossi"].with_walls
 
 
 def test_the_command_line_refuses_a_bad_file_before_writing_anything(tmp_path, capsys):

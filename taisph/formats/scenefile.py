@@ -11,7 +11,13 @@ or Lennard-Jones walls (particles dx/2 apart, r0 = dx/2, D = 5 max(|g| H, |v|max
 hydrostatic equilibrium (at ``pressure`` at their top: particles dx^dim of fluid at their
 pressure), Morris laminar viscosity on request (``physics.nu``, with the dummy walls'
 no-slip velocity). Fluids of different reference densities use the sharp-interface
-terms of ``cases/two_fluids.py``. Open boundaries (``[[open_boundaries]]``,
+terms of ``cases/two_fluids.py``, with dummy walls those of ``cases/rising_bubble.py``
+(:func:`taisph.scene.phases.two_phase_terms`: the walls join the sums, density diffusion
+off unless the file sets ``delta``). A material's dynamic ``viscosity`` adds Hu & Adams'
+viscosity per phase (``PhaseViscosity``), ``background_pressure`` the Tait pressure at
+rest, and ``physics.surface_tension`` the CSF surface tension (``SurfaceTension``: between
+the first material and the others, or at the free surface of a scene of one material).
+Open boundaries (``[[open_boundaries]]``,
 :mod:`.scenefile_open`) are added after the fluid and the walls, as ``cases/channel.py`` does,
 and so are bodies (``[[bodies]]``, :mod:`.scenefile_bodies`: a shape filled with dummy-wall
 particles on the lattice, moving as one; a scene with bodies and no walls has dummy walls).
@@ -85,7 +91,8 @@ def build(spec: SceneSpec):
         if c0 == 0:
             raise SceneFileError(f"{spec.path}: materials[{k}].c0 = (missing): no gravity and no velocity "
                                  "to choose a sound speed from; set c0")
-        materials.append(Material(m["name"], rho0=m["rho0"], c0=c0, gamma=m["gamma"]))
+        materials.append(Material(m["name"], rho0=m["rho0"], c0=c0, gamma=m["gamma"], viscosity=m["viscosity"],
+                                  background_pressure=m["background_pressure"]))
     open_top = any(w.kind == "tank" and w.open_top for w in spec.walls)
     scene = Scene(name=spec.name, dim=dim, dx=dx, smoothing_length=spec.h_factor * dx,
                   domain=spec.domain or default_domain(spec), materials=materials,
@@ -103,7 +110,7 @@ def build(spec: SceneSpec):
                                    material.gamma)
             mass = density * dx**dim if block.pressure else None  # as a buffer's particles at its pressure
         scene.add_fluid(points, material=block.material, velocity=block.velocity, density=density, mass=mass)
-    groups, notes = {}, []
+    groups, notes = {}, _phase_notes(spec)
     for block in spec.walls:
         points = _wall_points(spec, block)
         if len(points) == 0:
@@ -156,7 +163,8 @@ _TERM_KEYS = {"lennard_jones_wall": "walls[0].model", "dummy_walls": "walls[0].m
               "continuity_colagrossi": "materials", "pressure_hu_adams": "materials", "riemann": "physics.formulation",
               "laminar_viscosity": "physics.nu", "particle_shifting": "physics.shifting",
               "open_boundaries": "open_boundaries", "rigid_bodies": "bodies",
-              "density_relaxation": "physics.density_relaxation"}
+              "density_relaxation": "physics.density_relaxation", "surface_tension": "physics.surface_tension",
+              "phase_viscosity": "materials[].viscosity"}
 
 
 def _validate(spec, scene):
@@ -179,13 +187,17 @@ def _validate(spec, scene):
                 break
         key = "open_boundaries" if "open boundary '" in str(err) else key
         key = next((k for name, k in _TERM_KEYS.items() if f"the term {name!r}" in str(err)), key)  # a solver's refusal
+        viscous = next((k for k in spec.used_materials if spec.materials[k]["viscosity"] > 0), 0)
         values = {"walls[0].model": spec.wall_model, "physics.gravity": list(spec.gravity), "physics.alpha": spec.alpha,
                   "physics.delta": spec.delta, "physics.xsph": spec.xsph, "solver": spec.solver, "dx": spec.dx,
                   "physics.formulation": spec.formulation, "physics.nu": spec.nu, "physics.shifting": spec.shifting,
                   "physics.density_relaxation": spec.density_relaxation,
+                  "physics.surface_tension": spec.surface_tension,
+                  f"materials[{viscous}].viscosity": spec.materials[viscous]["viscosity"],
                   "open_boundaries": [z.name for z in spec.open_boundaries or ()],
                   "bodies": [b.name for b in spec.bodies or ()],
                   "materials": [m["name"] for m in spec.materials]}
+        key = f"materials[{viscous}].viscosity" if key == "materials[].viscosity" else key
         raise SceneFileError(f"{spec.path}: {key} = {values[key]!r}: the scene it makes is refused: {err}") from None
 
 
@@ -201,12 +213,41 @@ def _wall_note(spec, block, group, removed):
     return f"wall group {block.name}: {group.stop - group.start} particles ({what})"
 
 
+def _phase_notes(spec) -> list:
+    """The header's lines about the phases and their models, for a scene of several materials or one with a
+    viscosity, a background pressure or surface tension (a plain scene of water gets none, as before):
+    'phases: NAME (rho0 = ..., viscosity ...), ...' and 'models: ...'."""
+    used = [spec.materials[k] for k in spec.used_materials]
+    pressures = [m["background_pressure"] for m in used]
+    if len(used) < 2 and not (spec.viscous or any(pressures) or spec.surface_tension > 0):
+        return []
+    phases = ", ".join(f"{m['name']} (rho0 = {m['rho0']:g} kg/m^3, viscosity "
+                       + (f"{m['viscosity']:g} Pa s)" if m["viscosity"] > 0 else "0)") for m in used)
+    if spec.multiphase:
+        models = ["sharp interface (Colagrossi & Landrini continuity, Hu & Adams pressure"
+                  + (", dummy walls in both)" if spec.wall_model == "dummy" else ")")]
+    else:  # one fluid, or materials of one rho0: the one-fluid terms
+        models = [] if len(used) < 2 else [f"one rho0: the one-fluid {spec.formulation} continuity and pressure"]
+    if spec.viscous:
+        models.append("viscosity per phase (Hu & Adams 2006" + (", no-slip walls)" if spec.wall_model == "dummy"
+                                                                 else ")"))
+    elif spec.nu > 0:
+        models.append(f"laminar viscosity nu = {spec.nu:g} m^2/s in every phase")
+    if spec.surface_tension > 0:
+        where = (f"at {used[0]['name']}'s free surface" if len(used) == 1
+                 else f"between {used[0]['name']} and " + ", ".join(m["name"] for m in used[1:]))
+        models.append(f"surface tension sigma = {spec.surface_tension:g} N/m {where} (CSF)")
+    if any(pressures):
+        models.append(f"background pressure {pressures[0]:g} Pa")
+    return [f"phases: {phases}", f"models: {', '.join(models)}"]
+
+
 def _terms(spec, g, height, speed):
     """The scene's terms; gravity `g`, the fluid's `height` and its fastest initial
     `speed` scale the Lennard-Jones force."""
     from ..terms import (XSPH, AdamiWall, ArtificialViscosity, Continuity, ContinuityColagrossi, DensityDiffusion,
                          DensityRelaxation, Gravity, LaminarViscosity, LennardJonesWall, ParticleShifting,
-                         PressureGradient, PressureHuAdams, Riemann)
+                         PhaseViscosity, PressureGradient, PressureHuAdams, Riemann, SurfaceTension)
 
     dummy = spec.wall_model == "dummy"
     if spec.formulation == "riemann" and spec.multiphase:
@@ -215,18 +256,22 @@ def _terms(spec, g, height, speed):
                              "takes one fluid: leave formulation out")
     if spec.formulation == "riemann":
         terms = [Riemann(walls=dummy)]
-    elif spec.multiphase:
-        terms = [ContinuityColagrossi(), PressureHuAdams()]
+    elif spec.multiphase:  # with dummy walls they join the sums (cases/rising_bubble.py)
+        terms = [ContinuityColagrossi(walls=dummy), PressureHuAdams(walls=dummy)]
     else:
         terms = [Continuity(walls=dummy), PressureGradient(walls=dummy)]
     if spec.alpha > 0:
         terms.append(ArtificialViscosity(alpha=spec.alpha))
     if spec.nu > 0:  # Morris et al. (1997); with dummy walls their no-slip velocity (cases/channel.py, poiseuille.py)
         terms.append(LaminarViscosity(nu=spec.nu, walls=dummy))
+    if spec.viscous:  # each material's dynamic viscosity (Hu & Adams 2006); with dummy walls no-slip
+        terms.append(PhaseViscosity(walls=dummy))
+    if spec.surface_tension > 0:  # CSF: between the first material and the others, or one liquid's free surface
+        terms.append(SurfaceTension(sigma=spec.surface_tension, free_surface=len(spec.used_materials) == 1))
     if any(spec.gravity):
         terms.append(Gravity(gravity=spec.gravity))
     if dummy:
-        terms.append(AdamiWall())
+        terms.append(AdamiWall(per_phase=spec.multiphase))  # each phase reads its own wall pressure
     elif spec.wall_model == "lj":
         r0 = spec.dx / 2.0
         strength = water.lennard_jones_strength(g, height, r0, speed)

@@ -24,6 +24,7 @@ from ..geometry.mesh import MeshError, load_surface
 from ..geometry.shapes import support_layers
 from ..messages import InputError
 from ..probes.spec import Probe  # noqa: F401  (what [[probes]] become)
+from ..scene.model import CONSTANTS
 from ..scene.names import UP, default_formulation
 from ..scene.parameters import (BYTES_PER_PARTICLE, Range, between, courant_number, diffusion_delta, end_time, finite,
                                 gravity_component, integer, known_formulation, known_integrator, known_kernel,
@@ -49,17 +50,27 @@ RANGES = {
     "gamma": tait_exponent, "velocity": velocity_component, "scale": positive, "model": one_of("dummy", "lj"),
     "kind": PROBE_RANGES["kind"], "every": PROBE_RANGES["every"], "walls.kind": one_of(*WALL_KINDS),
     "physics.formulation": known_formulation, "physics.nu": between(0, 100), "physics.shifting": between(0, 1000),
-    "physics.density_relaxation": between(0, 1e6), "pressure": between(0, 1e9)}
+    "physics.density_relaxation": between(0, 1e6), "pressure": between(0, 1e9),
+    # a material's dynamic viscosity (Pa s: water 1e-3, glycerol 1.4, pitch-like fluids 1e5 and more) and its
+    # background pressure (Pa, the range of a fluid block's pressure); surface tension's sigma (N/m: water 0.0728,
+    # mercury 0.49; the benchmark of Hysing et al. 2009, in its units, 24.5)
+    "viscosity": between(0, 1e6), "background_pressure": between(0, 1e9), "physics.surface_tension": between(0, 1e3)}
 # The values of the keys a file may leave out (gravity: Gravity.default(dim), standard gravity along -y)
 DEFAULTS = {"solver": "wcsph", "kernel": "spline", "integrator": "pc", "h_factor": 1.3, "physics.alpha": 0.1,
             "physics.delta": 0.1, "physics.xsph": 0.0, "physics.nu": 0.0, "physics.shifting": 0.0,
-            "physics.density_relaxation": 0.0, "rho0": 1000.0, "gamma": 7.0, "model": "dummy", "every": 1}
+            "physics.density_relaxation": 0.0, "physics.surface_tension": 0.0, "rho0": 1000.0, "gamma": 7.0,
+            "viscosity": 0.0, "background_pressure": 0.0, "model": "dummy", "every": 1}
 
 TOP_KEYS = {"name", "description", "dim", "dx", "t_end", "frames", "solver", "kernel", "integrator", "h_factor", "dt",
             "courant", "domain", "remove_escaped", "physics", "materials", "fluid", "walls", "probes",
             "open_boundaries", "bodies", *timestep.SETTABLE}
-PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation", "nu", "shifting", "density_relaxation"}
-MATERIAL_KEYS = {"name", "rho0", "c0", "gamma"}
+PHYSICS_KEYS = {"gravity", "alpha", "delta", "xsph", "formulation", "nu", "shifting", "density_relaxation",
+                "surface_tension"}
+MATERIAL_KEYS = {"name", "rho0", "c0", "gamma", "viscosity", "background_pressure"}
+# ``--set NAME=VALUE`` of a scene parameter's name (Scene.set's) rather than a file key: a material constant sets
+# that key of every [[materials]] table (as Scene.set sets every material's), sigma the surface tension
+MATERIAL_CONSTANTS = CONSTANTS  # rho0, c0, gamma, viscosity, background_pressure
+SET_ALIASES = {"sigma": "physics.surface_tension"}
 FLUID_KEYS = {*SHAPES, "scale", "translate", "material", "velocity", "hydrostatic", "pressure"}
 WALL_KEYS = {*SHAPES, "scale", "translate", "name", "model", "kind", "open_top"}
 
@@ -117,7 +128,7 @@ class SceneSpec:
     nu: float  # the laminar viscosity's kinematic viscosity (m^2/s; 0: none)
     shifting: float  # particle shifting's reference speed U (m/s; 0: none), with the free-surface rule
     density_relaxation: float  # DensityRelaxation's relaxation time tau (s; 0: none)
-    materials: list  # of dicts: name, rho0, c0 (None: default), gamma
+    materials: list  # of dicts: name, rho0, c0 (None: default), gamma, viscosity (Pa s), background_pressure (Pa)
     fluid: list
     walls: list
     probes: list
@@ -128,6 +139,17 @@ class SceneSpec:
     formulation: str = "symmetric"  # names.FORMULATIONS: "symmetric" or "riemann" (alpha and delta then default to 0)
     open_boundaries: list | None = None  # of scenefile_open.Zone
     bodies: list | None = None  # of scenefile_bodies.BodyBlock
+    surface_tension: float = 0.0  # SurfaceTension's sigma (N/m; 0: none): two-phase, or free-surface for one fluid
+
+    @property
+    def used_materials(self) -> list:
+        """The indices of the materials some fluid block uses, in order."""
+        return sorted({b.material for b in self.fluid})
+
+    @property
+    def viscous(self) -> bool:
+        """Some material a fluid uses has a dynamic viscosity: PhaseViscosity (Hu & Adams 2006)."""
+        return any(self.materials[k]["viscosity"] > 0 for k in self.used_materials)
 
 
 def read(path, overrides: dict | None = None) -> SceneSpec:
@@ -146,7 +168,15 @@ def read(path, overrides: dict | None = None) -> SceneSpec:
 
 
 def _override(path, data, key, value):
-    """Set `key` ("dx", "physics.alpha", "fluid[0].velocity") of the parsed file."""
+    """Set `key` ("dx", "physics.alpha", "fluid[0].velocity") of the parsed file; a material constant's name
+    ("viscosity") sets it in every [[materials]] table, "sigma" sets physics.surface_tension (SET_ALIASES)."""
+    if key in MATERIAL_CONSTANTS:
+        materials = data.setdefault("materials", [{"name": "water"}])  # (the default material, named)
+        for m in materials if isinstance(materials, list) else ():
+            if isinstance(m, dict):
+                m[key] = value
+        return
+    key = SET_ALIASES.get(key, key)
     match = re.fullmatch(r"(?:([a-z_]+)(?:\[(\d+)\])?\.)?([a-z_0-9]+)", key)
     table = data
     if match and match[1]:
@@ -253,7 +283,7 @@ class _Checker:
             remove_escaped=self.flag("remove_escaped", data.get("remove_escaped", _MISSING), True),
             gravity=self.vector("physics.gravity", gravity, dim, RANGES["physics.gravity"]),
             **{k: self.number(f"physics.{k}", physics.get(k, DEFAULTS[f"physics.{k}"]), RANGES[f"physics.{k}"])
-               for k in ("alpha", "delta", "xsph", "nu", "shifting", "density_relaxation")},
+               for k in ("alpha", "delta", "xsph", "nu", "shifting", "density_relaxation", "surface_tension")},
             materials=self.materials(data.get("materials", [{"name": "water"}])),
             fluid=[], walls=[], probes=[],
         )
@@ -274,17 +304,15 @@ class _Checker:
         # (bodies are dummy walls)
         spec.wall_model = spec.walls[0].model if spec.walls else ("dummy" if data.get("bodies") else None)
         self.memory(spec)
-        used = sorted({b.material for b in spec.fluid})
-        spec.multiphase = len({spec.materials[k]["rho0"] for k in used}) > 1
-        if spec.multiphase and spec.wall_model == "dummy":
-            self.fail("walls[0].model", "dummy", "fluids of different rho0 ("
-                      + ", ".join(spec.materials[k]["name"] for k in used) + ") use the sharp-interface terms "
-                      "(Hu & Adams, Colagrossi & Landrini), which take only model = \"lj\" walls")
+        spec.multiphase = len({spec.materials[k]["rho0"] for k in spec.used_materials}) > 1
+        self.phases(spec, physics)
         spec.formulation = self.choice("physics.formulation", physics.get("formulation", default_formulation(spec)),
                                        known_formulation)
         if spec.formulation == "riemann":  # its own dissipation: alpha and delta only where the file sets them
             spec.alpha = spec.alpha if "alpha" in physics else 0.0
             spec.delta = spec.delta if "delta" in physics else 0.0
+        if spec.multiphase and spec.wall_model == "dummy" and "delta" not in physics:
+            spec.delta = 0.0  # delta-SPH would diffuse each phase's density towards the other's across the interface
         spec.domain = self.box("domain", data["domain"], dim) if "domain" in data else None
         spec.bodies = bodies(self, self.entries("bodies", data), spec, [w.name for w in spec.walls])
         lo, hi = spec.domain or default_domain(spec)
@@ -310,8 +338,33 @@ class _Checker:
                 self.fail(f"{key}.name", name, "already the name of another material")
             constant = lambda k: self.number(f"{key}.{k}", m.get(k, DEFAULTS.get(k)), RANGES[k])  # noqa: E731
             out.append({"name": name, "rho0": constant("rho0"), "c0": None if m.get("c0") is None else constant("c0"),
-                        "gamma": constant("gamma")})
+                        "gamma": constant("gamma"), "viscosity": constant("viscosity"),
+                        "background_pressure": constant("background_pressure")})
         return out
+
+    def phases(self, spec, physics):
+        """The choice between the materials' viscosity and physics.nu, one background pressure for all phases,
+        and surface tension's materials."""
+        used, materials = spec.used_materials, spec.materials
+        viscous = [k for k in used if materials[k]["viscosity"] > 0]
+        if viscous and spec.nu > 0:
+            m = materials[viscous[0]]
+            self.fail("physics.nu", physics["nu"], f"a kinematic viscosity for every fluid (Morris et al.), and "
+                      f"materials[{viscous[0]}].viscosity = {m['viscosity']!r} gives {m['name']} its own dynamic "
+                      "viscosity (Hu & Adams): give either physics.nu or the materials' viscosity, not both")
+        first = materials[used[0]]
+        for k in used:  # Material.background_pressure: one for all phases (the pressure at rest across an interface)
+            if materials[k]["background_pressure"] != first["background_pressure"]:
+                self.fail(f"materials[{k}].background_pressure", materials[k]["background_pressure"],
+                          f"differs from materials[{used[0]}]'s ({first['name']}: {first['background_pressure']:g} "
+                          "Pa); the phases share one pressure at rest, so their background pressure must be the "
+                          "same (a fluid block's own pressure is its pressure key)")
+        unused = [k for k in range(len(materials)) if k not in used]
+        if spec.surface_tension > 0 and unused:
+            self.fail("physics.surface_tension", physics["surface_tension"], f"materials[{unused[0]}] "
+                      f"({materials[unused[0]]['name']}) is used by no [[fluid]] block; surface tension acts between "
+                      "the first material and the others (with one material, at its free surface), over the "
+                      "materials of the scene: declare only the materials the fluid uses")
 
     def memory(self, spec):
         """Refuse blocks whose particles (a lattice of each block's bounds: dx/2 apart for Lennard-Jones walls, grown
