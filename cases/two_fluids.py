@@ -3,20 +3,22 @@
 import numpy as np
 
 from taisph.scene import Material, Scene
-from taisph.geometry import box_walls, lattice
+from taisph.geometry import box_walls, lattice, support_layers, wall_layers
 from taisph.terms import (STANDARD_GRAVITY, ArtificialViscosity, ContinuityColagrossi, Gravity, LennardJonesWall,
                           PressureHuAdams)
 from taisph.eos import tait
 from taisph.scene.water import lennard_jones_strength, sound_speed
 from taisph.scene.parameters import (ParameterError, at_least, checked, end_time, frame_count, gravity_magnitude,
-                                     known_integrator, known_kernel, lattice_count, optional, positive,
+                                     known_integrator, known_kernel, lattice_count, one_of, optional, positive,
                                      smoothing_factor, speed_of_sound, viscosity_alpha)
+from taisph.scene.phases import two_phase_terms
 
 
 @checked(dx=positive, width=positive, height=positive, tank_height=positive, density_ratio=positive,
          upper_density=positive, amplitude=at_least(0), alpha=viscosity_alpha, c0=optional(speed_of_sound),
          lower_c0=optional(speed_of_sound), h_factor=smoothing_factor, g=gravity_magnitude, kernel=known_kernel,
-         integrator=known_integrator, t_end=end_time, frames=frame_count)
+         integrator=known_integrator, t_end=end_time, frames=frame_count, walls=one_of("lj", "dummy"),
+         background_pressure=at_least(0))
 def two_fluids(
     dx: float = 0.02,
     width: float = 1.0,
@@ -34,6 +36,8 @@ def two_fluids(
     integrator: str = "pc",
     t_end: float = 2.5,
     frames: int = 25,
+    walls: str = "lj",
+    background_pressure: float = 0.0,
 ) -> Scene:
     """A `width` x `height` box of liquid, open at the top (walls up to
     `tank_height`): the upper half is fluid of `upper_density` (material 0), the lower
@@ -57,6 +61,14 @@ def two_fluids(
     Each particle's mass is its material's rho0 dx^2; the initial density is
     hydrostatic (the pressure of the fluid above, through each material's inverse
     Tait). Default dx = 0.02 m: 5000 fluid particles.
+
+    ``walls="dummy"`` with a `background_pressure` (Pa, both materials) and `lower_c0`
+    = c0 sqrt(density_ratio) (the same stiffness) is the formulation for large density
+    ratios (docs/multiphase.md): dummy walls (Adami et al. 2012) whose pressure each
+    phase reads through its own equation of state, instead of Lennard-Jones walls; it
+    holds ratio 100 in a full box (`height` = `tank_height`, closed at the top;
+    tests/test_stability.py). A background pressure needs the box full: at a free
+    surface it would push the particles apart.
     """
     if not amplitude < 0.25 * height:
         raise ParameterError(f"two_fluids: amplitude must be below height/4 = {0.25 * height:g} m (the interface "
@@ -67,10 +79,11 @@ def two_fluids(
     lattice_count("two_fluids", "the liquid", dx, ("width", width), ("height", height))
     lattice_count("two_fluids", "the tank", dx, ("width", width), ("tank_height", tank_height))
     c0 = sound_speed(g, height) if c0 is None else c0
-    upper = Material("upper", rho0=upper_density, c0=c0, gamma=7.0)
+    upper = Material("upper", rho0=upper_density, c0=c0, gamma=7.0, background_pressure=background_pressure)
     lower_c0 = c0 if lower_c0 is None else lower_c0
-    lower = Material("lower", rho0=upper_density / density_ratio, c0=lower_c0, gamma=7.0)
-    spacing = r0 = dx / 2.0
+    lower = Material("lower", rho0=upper_density / density_ratio, c0=lower_c0, gamma=7.0,
+                     background_pressure=background_pressure)
+    spacing = r0 = dx / 2.0 if walls == "lj" else dx
     scene = Scene(
         name="two_fluids",
         dim=2,
@@ -84,7 +97,8 @@ def two_fluids(
             ArtificialViscosity(alpha=alpha),
             Gravity(gravity=(0.0, -g)),
             LennardJonesWall(lj_strength=lennard_jones_strength(g, height, r0), lj_cutoff=r0),
-        ],
+        ] if walls == "lj" else [*two_phase_terms(walls=True, gravity=(0.0, -g), viscous=False),
+                                 ArtificialViscosity(alpha=alpha, walls=True)],
         kernel=kernel,
         integrator=integrator,
         t_end=t_end,
@@ -97,12 +111,19 @@ def two_fluids(
     interface = interface_height(x, width, height, amplitude)
     is_upper = y > interface
     # hydrostatic pressure: the upper column above, plus the lower column for lower particles
-    p = np.where(is_upper, upper.rho0 * g * (height - y),
-                 upper.rho0 * g * (height - interface) + lower.rho0 * g * (interface - y))
+    p = background_pressure + np.where(is_upper, upper.rho0 * g * (height - y),
+                                       upper.rho0 * g * (height - interface) + lower.rho0 * g * (interface - y))
     for k, (material, sel) in enumerate(((upper, is_upper), (lower, ~is_upper))):
-        rho = tait.density(p[sel], material.rho0, material.c0, material.gamma)
+        rho = tait.density(p[sel], material.rho0, material.c0, material.gamma, background_pressure)
         scene.add_fluid(points[sel], material=k, density=rho, mass=material.rho0 * dx**2)
-    scene.add_walls(box_walls([0.0, 0.0], [width, tank_height], spacing))
+    if walls == "lj":
+        scene.add_walls(box_walls([0.0, 0.0], [width, tank_height], spacing))
+    else:  # layers of dummy particles filling a kernel support outside the box
+        layers = support_layers(scene.support_radius, dx)
+        closed = height == tank_height  # a full box: closed at the top
+        scene.add_walls(wall_layers([0.0, 0.0], [width, tank_height], dx, layers, open_top=not closed))
+        pad = (layers + 1) * dx
+        scene.domain = (np.array([-pad, -pad]), np.array([width + pad, tank_height + (pad if closed else dx)]))
     return scene
 
 

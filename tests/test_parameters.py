@@ -41,9 +41,9 @@ OUT_OF_RANGE = [(case, name, value) for case, func in CASES.items() for name, rn
 
 
 def test_every_case_declares_every_parameter():
-    """All 18 built-in cases declare a range for each parameter, and each default lies in
+    """All 20 built-in cases declare a range for each parameter, and each default lies in
     its range (@checked also refuses, at import, a case that does not)."""
-    assert len(CASES) == 18
+    assert len(CASES) == 20
     for case, func in CASES.items():
         params = inspect.signature(func).parameters
         assert list(func.ranges) == list(params), case

@@ -50,6 +50,11 @@ TIER = {
         "DFSPH in 3D: a released column's pressure is potential flow's",
     "tests/test_dfsph_3d_pressure.py::test_dfsph_floor_pressure_agrees_with_wcsph_in_the_3d_dam_break":
         "DFSPH's 3D floor pressure is WCSPH's",
+    # two phases and surface tension
+    "tests/test_multiphase.py::test_laplace_pressure_of_a_drop_at_rest":
+        "Laplace: a drop's pressure jump against sigma / R",
+    "tests/test_rising_bubble.py::test_rising_bubble_test_case_1_quick":
+        "Hysing et al.'s rising bubble (ratio 10): the rise velocity's maximum and its time",
     # gas dynamics
     "tests/test_gas.py::test_sod_plateaus_and_shock": "Sod's shock tube against the exact Riemann solution",
     "tests/test_gas.py::test_sedov_blast_follows_the_similarity_law": "Sedov's blast against Taylor's similarity law",
