@@ -4,8 +4,7 @@ import math
 
 import numpy as np
 
-from taisph.geometry import lattice
-from taisph.geometry.shapes import support_layers
+from taisph.geometry import lattice, support_layers, wall_layers
 from taisph.scene import Material, Scene
 from taisph.scene.parameters import (ParameterError, checked, end_time, frame_count, known_integrator, known_kernel,
                                      integer, lattice_count, optional, positive, smoothing_factor)
@@ -76,12 +75,7 @@ def rising_bubble(
     for k, (material, sel) in enumerate(((liquid, ~inside), (gas, inside))):
         scene.add_fluid(points[sel], material=k, density=phase_densities(material, pressure[sel]),
                         mass=material.rho0 * dx**2)
-    walls = []
-    for j in range(layers):
-        xs = (np.arange(n) + 0.5) * dx
-        for y in (-(j + 0.5) * dx, height + (j + 0.5) * dx):
-            walls.append(np.column_stack([xs, np.full(n, y)]))
-    scene.add_walls(np.vstack(walls))
+    scene.add_walls(wall_layers((0.0, 0.0), (width, height), dx, layers, open_top=False, periodic=(True, False)))
     return scene
 
 

@@ -140,7 +140,12 @@ def copy_rows(solver):
 def derive_all(solver):
     """A ti.func(s, i): the equation of state and the terms' ``derive`` for particle i."""
     eos = solver.eos
-    derive_terms = [t for t in solver.terms if t.has_derive]
+    # one call per distinct hook: terms sharing one (taisph.terms.base.VolumeTerm) write the same rows
+    hooks = {}
+    for t in solver.terms:
+        if t.has_derive:
+            hooks.setdefault(type(t).derive, t)
+    derive_terms = list(hooks.values())
 
     @ti.func
     def derive(s: ti.template(), i):

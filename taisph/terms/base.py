@@ -364,6 +364,21 @@ class Term:
         return f"{self.name}({', '.join(parts)})" if parts else self.name
 
 
+@ti.data_oriented
+class VolumeTerm(Term):
+    """A term whose sums use each particle's volume V = m / rho (the multiphase forms:
+    :class:`PressureHuAdams`, :class:`ContinuityColagrossi`, :class:`PhaseViscosity`,
+    :class:`SurfaceTension`). The ``volume`` row is derived once per particle however many
+    such terms a scene lists: the engine runs one derive hook once (they share this one)."""
+
+    scalars = ("volume",)
+    derived = ("volume",)
+
+    @ti.func
+    def derive(self, s: ti.template(), i):
+        s.Ss[self.q.volume, i] = s.Ss[self.q.mass, i] / s.Ss[self.q.density, i]
+
+
 def _fmt(v):
     if isinstance(v, (tuple, list, np.ndarray)):
         return "(" + ", ".join(_fmt(x) for x in v) + ")"

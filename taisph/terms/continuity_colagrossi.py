@@ -18,24 +18,18 @@ velocity and the volume their mass and density give.
 import taichi as ti
 
 from ..messages import InputError
-from .base import Term
+from .base import VolumeTerm
 
 
 @ti.data_oriented
-class ContinuityColagrossi(Term):
+class ContinuityColagrossi(VolumeTerm):
     name = "continuity_colagrossi"
     integrates = {"density": "d_density"}
     takes_walls = True
-    scalars = ("volume",)
-    derived = ("volume",)
 
     def check(self, scene):
         if "continuity" in scene.terms_by_name:
             raise InputError("use either Continuity (seed eq. 7) or ContinuityColagrossi, not both")
-
-    @ti.func
-    def derive(self, s: ti.template(), i):
-        s.Ss[self.q.volume, i] = s.Ss[self.q.mass, i] / s.Ss[self.q.density, i]
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):

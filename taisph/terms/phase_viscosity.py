@@ -29,16 +29,14 @@ import taichi as ti
 
 from ..engine.layout import FLUID
 from ..messages import InputError
-from .base import Term
+from .base import VolumeTerm
 
 
 @ti.data_oriented
-class PhaseViscosity(Term):
+class PhaseViscosity(VolumeTerm):
     name = "phase_viscosity"
     takes_walls = True
     material_columns = ("viscosity",)
-    scalars = ("volume",)
-    derived = ("volume",)
 
     def bound(self, layout, param_rows, material_cols, eos, rate_rows, kernel=None):
         t = super().bound(layout, param_rows, material_cols, eos, rate_rows, kernel)
@@ -53,10 +51,6 @@ class PhaseViscosity(Term):
             raise InputError("use either LaminarViscosity (one nu) or PhaseViscosity (a viscosity per material), "
                              "not both")
         super().check(scene)
-
-    @ti.func
-    def derive(self, s: ti.template(), i):
-        s.Ss[self.q.volume, i] = s.Ss[self.q.mass, i] / s.Ss[self.q.density, i]
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):

@@ -38,15 +38,13 @@ import taichi as ti
 
 from ..engine.layout import FLUID
 from ..messages import InputError
-from .base import Term
+from .base import VolumeTerm
 
 
 @ti.data_oriented
-class PressureHuAdams(Term):
+class PressureHuAdams(VolumeTerm):
     name = "pressure_hu_adams"
     takes_walls = True
-    scalars = ("volume",)
-    derived = ("volume",)
 
     def bound(self, layout, param_rows, material_cols, eos, rate_rows, kernel=None):
         t = super().bound(layout, param_rows, material_cols, eos, rate_rows, kernel)
@@ -57,10 +55,6 @@ class PressureHuAdams(Term):
     def check(self, scene):
         if "pressure" in scene.terms_by_name:
             raise InputError("use either PressureGradient (seed eq. 8) or PressureHuAdams, not both")
-
-    @ti.func
-    def derive(self, s: ti.template(), i):
-        s.Ss[self.q.volume, i] = s.Ss[self.q.mass, i] / s.Ss[self.q.density, i]
 
     @ti.func
     def pair(self, s: ti.template(), i, j, rij, r, grad, rates: ti.template()):

@@ -53,20 +53,19 @@ import taichi as ti
 
 from ..engine.layout import FLUID
 from ..messages import InputError
-from .base import NeighbourPass, Term
+from .base import NeighbourPass, VolumeTerm
 
 RELIABLE = 0.05  # a normal is reliable where |grad c| > RELIABLE / h (Morris 2000 eq. 20; see above)
 
 
 @ti.data_oriented
-class SurfaceTension(Term):
+class SurfaceTension(VolumeTerm):
     name = "surface_tension"
     params = {"sigma": None}
     vectors = ("colour_gradient",)
     scalars = ("volume", "curvature")
     # the colour gradient and curvature are kept with the state (not derived) so that frames and
     # readouts show the values the last step used
-    derived = ("volume",)
     outputs = ("curvature",)
 
     def __init__(self, free_surface: bool = False, **values):
@@ -93,10 +92,6 @@ class SurfaceTension(Term):
 
     def passes(self):
         return [_ColourGradient(self), _Curvature(self)]
-
-    @ti.func
-    def derive(self, s: ti.template(), i):
-        s.Ss[self.q.volume, i] = s.Ss[self.q.mass, i] / s.Ss[self.q.density, i]
 
     @ti.func
     def particle(self, s: ti.template(), i, rates: ti.template()):
