@@ -3,7 +3,7 @@
 from .adami_wall import AdamiWall
 from .artificial_conductivity import ArtificialConductivity
 from .artificial_viscosity import ArtificialViscosity
-from .base import NeighbourPass, Term
+from .base import NeighbourPass, Term, VolumeTerm
 from .continuity import Continuity
 from .continuity_colagrossi import ContinuityColagrossi
 from .damping_zone import DampingZone
@@ -29,6 +29,7 @@ from .rigid_bodies import RigidBodies  # made by Scene.add_body, not listed by h
 __all__ = [
     "Term",
     "NeighbourPass",
+    "VolumeTerm",
     "Gravity",
     "STANDARD_GRAVITY",
     "Continuity",
